@@ -1,0 +1,541 @@
+"""Bond-graph elements: frozen values describing each node of a graph.
+
+Conventions
+-----------
+Every bond has a power direction, from its *tail* to its *head* (the
+half-arrow end); ``e*f`` is the power flowing that way.
+
+* ``Se``, ``Sf`` -- effort and flow sources; each is an input ``u`` named after
+  the element.  A source's bond normally points away from it.
+* ``I`` stores momentum ``p``; a linear I has ``f = p/I``.
+* ``C`` stores displacement ``q``; a linear C has ``e = q/C`` (C is a
+  compliance; pass ``stiffness=k`` for ``e = k*q``).
+* ``R`` dissipates; a linear R has ``e = R*f``.
+* One-port laws are written for power flowing *into* the element; a bond
+  that points away from an I, C or R flips the sign of its flow.
+* ``TF`` with modulus ``n``: ``e1 = n*e2`` and ``f2 = n*f1``, where port 1
+  is the bond into the TF and port 2 the bond out of it.
+* ``GY`` with modulus ``r``: ``e1 = r*f2`` and ``e2 = r*f1``.
+* ``MTF`` and ``MGY`` are the same with a modulus that may depend on
+  signals (states, efforts, flows, displacements) and on time :data:`t`.
+* ``Zero``: common effort, flows sum to zero (signed by bond direction).
+  ``One``: common flow, efforts sum to zero.
+* ``Port``: an external port of a graph used as a sub-model.
+
+Parameters default to a positive sympy symbol named after the element (with
+its hierarchical path, ``motor.Ra``); a number, a symbol, an expression or an
+identifier string may be given instead.
+
+Nonlinear laws are sympy expressions in the element's own variable
+(:data:`bondgraph.p`, :data:`~bondgraph.q`, :data:`~bondgraph.e`,
+:data:`~bondgraph.f`) or callables taking it.
+
+Examples
+--------
+>>> import bondgraph as bg
+>>> bg.I("La").parameter is None        # resolved to Symbol('La') on derivation
+True
+>>> spring = bg.C("k1", law=3*bg.q + bg.q**3)
+>>> spring.law
+q**3 + 3*q
+"""
+
+from __future__ import annotations
+
+import keyword
+import numbers
+import re
+from dataclasses import dataclass, field, replace
+from typing import Callable, ClassVar, Optional, Union
+
+import sympy
+
+from .errors import LawError, ModelStructureError, ParameterError
+from .signals import LawVariable, Signal, e as E_VAR, f as F_VAR, p as P_VAR, q as Q_VAR, t as T_SYM
+
+__all__ = [
+    "Element",
+    "Se",
+    "Sf",
+    "I",
+    "C",
+    "R",
+    "TF",
+    "GY",
+    "MTF",
+    "MGY",
+    "Zero",
+    "One",
+    "Port",
+    "ParameterLike",
+]
+
+ParameterLike = Union[None, numbers.Real, str, sympy.Expr]
+LawLike = Union[None, sympy.Expr, Callable[[sympy.Symbol], sympy.Expr]]
+
+_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+_DOTTED = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*$")
+
+
+def check_name(name: object, what: str) -> str:
+    """Validate an element or graph name: an identifier without dots."""
+    if not isinstance(name, str) or not _NAME.match(name) or keyword.iskeyword(name):
+        raise ModelStructureError(
+            f"{what} name {name!r} is not valid: expected an identifier such as "
+            "'Ra' or 'motor' (letters, digits, underscores; no dots, which separate "
+            "sub-model paths)"
+        )
+    return name
+
+
+def to_expr(value: ParameterLike, *, owner: str, what: str) -> Optional[sympy.Expr]:
+    """Turn a user-supplied parameter into a sympy expression, never parsing text.
+
+    Strings must be (dotted) identifiers and become positive symbols.
+    """
+    if value is None:
+        return None
+    if isinstance(value, bool):
+        raise ParameterError(f"{owner}: {what} must be a number, symbol or expression, got a bool")
+    if isinstance(value, sympy.Basic):
+        if not isinstance(value, sympy.Expr):
+            raise ParameterError(f"{owner}: {what} must be a sympy expression, got {type(value).__name__}")
+        return value
+    if isinstance(value, numbers.Integral):
+        return sympy.Integer(int(value))
+    if isinstance(value, numbers.Real):
+        fval = float(value)
+        if fval != fval or fval in (float("inf"), float("-inf")):
+            raise ParameterError(f"{owner}: {what} must be finite, got {value!r}")
+        return sympy.Float(fval)
+    if isinstance(value, str):
+        if not _DOTTED.match(value) or keyword.iskeyword(value):
+            raise ParameterError(
+                f"{owner}: {what} {value!r} is not a parameter name; give an identifier "
+                "such as 'Rm', a number, or a sympy expression (text is never parsed)"
+            )
+        return sympy.Symbol(value, positive=True)
+    raise ParameterError(
+        f"{owner}: {what} must be a number, an identifier string or a sympy expression; "
+        f"got {type(value).__name__}"
+    )
+
+
+def _law(value: LawLike, own: LawVariable, *, owner: str, what: str) -> Optional[sympy.Expr]:
+    """Validate a constitutive law written in the element's own variable."""
+    if value is None:
+        return None
+    if callable(value) and not isinstance(value, sympy.Basic):
+        value = value(own)
+    expr = to_expr(value, owner=owner, what=f"{what} law")
+    free = expr.free_symbols
+    foreign = sorted(str(s) for s in free if isinstance(s, LawVariable) and s != own)
+    if foreign:
+        raise LawError(
+            f"{owner}: the {what} law {expr} uses {', '.join(foreign)}, but it must be a "
+            f"function of the element's own variable {own} (bondgraph.{own})"
+        )
+    if own not in free:
+        raise LawError(
+            f"{owner}: the {what} law {expr} is not a function of the element's own "
+            f"variable {own}; write it with bondgraph.{own}, e.g. k*bondgraph.{own}"
+        )
+    return expr
+
+
+@dataclass(frozen=True, eq=False)
+class Element:
+    """Base of all elements.  ``name`` is local to the graph holding it."""
+
+    name: str
+    kind: ClassVar[str] = "?"
+    #: (minimum, maximum) number of bonds; None for unbounded
+    bonds: ClassVar[tuple[int, Optional[int]]] = (1, 1)
+
+    def __post_init__(self) -> None:
+        check_name(self.name, self.kind)
+
+    def label(self) -> str:
+        """``KIND:name`` as drawn on a bond graph."""
+        return f"{self.kind}:{self.name}"
+
+    def resolved(self, path: str) -> "Element":
+        """A copy named ``path`` with default parameters filled in."""
+        return _rename(self, path)
+
+    def signals(self) -> frozenset:
+        """Signals used by this element's laws (modulated elements)."""
+        return frozenset()
+
+
+def _rename(el: Element, path: str) -> Element:
+    obj = object.__new__(type(el))
+    for fld in el.__dataclass_fields__:
+        object.__setattr__(obj, fld, getattr(el, fld))
+    object.__setattr__(obj, "name", path)
+    return obj
+
+
+def _prefix_signals(expr: Optional[sympy.Expr], prefix: str) -> Optional[sympy.Expr]:
+    if expr is None or not prefix:
+        return expr
+    sig = {s: s.retarget(prefix + s.target) for s in expr.free_symbols
+           if isinstance(s, Signal) and isinstance(s.target, str)}
+    return expr.xreplace(sig) if sig else expr
+
+
+def _signals_of(*exprs) -> frozenset:
+    out = set()
+    for ex in exprs:
+        if ex is not None:
+            out |= {s for s in ex.free_symbols if isinstance(s, Signal)}
+    return frozenset(out)
+
+
+@dataclass(frozen=True, eq=False)
+class _Source(Element):
+    """A source: its value is an input of the model."""
+
+
+@dataclass(frozen=True, eq=False)
+class Se(_Source):
+    """Effort source; its effort is the input named after the element.
+
+    Examples
+    --------
+    >>> Se("e_in").label()
+    'Se:e_in'
+    """
+
+    kind: ClassVar[str] = "Se"
+
+
+@dataclass(frozen=True, eq=False)
+class Sf(_Source):
+    """Flow source; its flow is the input named after the element.
+
+    Examples
+    --------
+    >>> Sf("Q").kind
+    'Sf'
+    """
+
+    kind: ClassVar[str] = "Sf"
+
+
+@dataclass(frozen=True, eq=False)
+class _OnePort(Element):
+    """Storage or dissipation: a parameter, or a law in the own variable."""
+
+    parameter: ParameterLike = None
+    law: LawLike = None
+    inverse: LawLike = None
+    own: ClassVar[LawVariable] = P_VAR
+    inverse_own: ClassVar[LawVariable] = F_VAR
+    law_name: ClassVar[str] = ""
+    inverse_name: ClassVar[str] = ""
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        owner = self.label()
+        object.__setattr__(self, "parameter", to_expr(self.parameter, owner=owner, what="parameter"))
+        object.__setattr__(self, "law", _law(self.law, self.own, owner=owner, what=self.law_name))
+        object.__setattr__(self, "inverse", _law(self.inverse, self.inverse_own, owner=owner,
+                                                 what=self.inverse_name))
+        if self.parameter is not None and (self.law is not None or self.inverse is not None):
+            raise LawError(f"{owner}: give either a parameter or a law, not both")
+
+    def resolved(self, path: str) -> Element:
+        el = _rename(self, path)
+        prefix = path[: len(path) - len(self.name)]
+        if self.parameter is None and self.law is None and self.inverse is None:
+            object.__setattr__(el, "parameter", sympy.Symbol(path, positive=True))
+        object.__setattr__(el, "law", _prefix_signals(self.law, prefix))
+        object.__setattr__(el, "inverse", _prefix_signals(self.inverse, prefix))
+        return el
+
+    def signals(self) -> frozenset:
+        return _signals_of(self.law, self.inverse, self.parameter)
+
+    def forward(self) -> sympy.Expr:
+        """The law as a function of the own variable (``f(p)``, ``e(q)``, ``e(f)``)."""
+        if self.law is not None:
+            return self.law
+        if self.parameter is not None:
+            return self._linear(self.own)
+        return self._invert(self.inverse, self.inverse_own, self.own, self.inverse_name)
+
+    def backward(self) -> sympy.Expr:
+        """The inverse law, a function of the dual variable (``p(f)``, ``q(e)``, ``f(e)``)."""
+        if self.inverse is not None:
+            return self.inverse
+        if self.parameter is not None:
+            return self._linear_inverse(self.inverse_own)
+        return self._invert(self.law, self.own, self.inverse_own, self.law_name)
+
+    def _invert(self, expr, var, new_var, name) -> sympy.Expr:
+        """Invert one scalar law ``new_var = expr(var)`` with ``sympy.solve``.
+
+        Only this element's own equation is solved, and only when exactly one
+        solution exists; otherwise the user is asked for the inverse law.
+        """
+        sols = sympy.solve(sympy.Eq(expr, new_var), var, dict=False)
+        if len(sols) != 1:
+            raise LawError(
+                f"{self.label()}: its causality needs the inverse of the {name} law "
+                f"{expr}, which has {len(sols)} solutions for {var}; pass the inverse "
+                "law explicitly (inverse=...)"
+            )
+        return sols[0]
+
+
+@dataclass(frozen=True, eq=False)
+class I(_OnePort):
+    """Inertia: stores momentum p.  Linear: ``f = p/I``.
+
+    Parameters
+    ----------
+    name : str
+    parameter : number, str or sympy expression, optional
+        The inertance (mass, inertia, inductance).  Defaults to a positive
+        symbol named after the element.
+    law : expression in :data:`bondgraph.p`, optional
+        Nonlinear flow law ``f = law(p)``.
+    inverse : expression in :data:`bondgraph.f`, optional
+        ``p = inverse(f)``, used in derivative causality.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> bg.I("m", 2).forward()
+    p/2
+    """
+
+    kind: ClassVar[str] = "I"
+    own: ClassVar[LawVariable] = P_VAR
+    inverse_own: ClassVar[LawVariable] = F_VAR
+    law_name: ClassVar[str] = "flow"
+    inverse_name: ClassVar[str] = "momentum"
+
+    def _linear(self, p):
+        return p / self.parameter
+
+    def _linear_inverse(self, f):
+        return self.parameter * f
+
+
+@dataclass(frozen=True, eq=False)
+class C(_OnePort):
+    """Capacitance: stores displacement q.  Linear: ``e = q/C``.
+
+    Parameters
+    ----------
+    name : str
+    parameter : number, str or sympy expression, optional
+        The compliance C.  Defaults to a positive symbol named after the element.
+    law : expression in :data:`bondgraph.q`, optional
+        Nonlinear effort law ``e = law(q)``.
+    inverse : expression in :data:`bondgraph.e`, optional
+        ``q = inverse(e)``, used in derivative causality.
+    stiffness : number, str or sympy expression, optional
+        Shorthand for the linear law ``e = stiffness*q``.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> bg.C("k", stiffness="k").forward()
+    q*k
+    """
+
+    kind: ClassVar[str] = "C"
+    own: ClassVar[LawVariable] = Q_VAR
+    inverse_own: ClassVar[LawVariable] = E_VAR
+    law_name: ClassVar[str] = "effort"
+    inverse_name: ClassVar[str] = "displacement"
+    stiffness: ParameterLike = field(default=None, kw_only=True)
+
+    def __post_init__(self) -> None:
+        if self.stiffness is not None:
+            if self.parameter is not None or self.law is not None:
+                raise LawError(f"C:{self.name}: give one of parameter, stiffness or law")
+            k = to_expr(self.stiffness, owner=f"C:{self.name}", what="stiffness")
+            object.__setattr__(self, "law", k * Q_VAR)
+            object.__setattr__(self, "inverse", E_VAR / k)
+        super().__post_init__()
+
+    def _linear(self, q):
+        return q / self.parameter
+
+    def _linear_inverse(self, e):
+        return self.parameter * e
+
+
+@dataclass(frozen=True, eq=False)
+class R(_OnePort):
+    """Resistance: ``e = R*f`` (or ``e = law(f)``, ``f = inverse(e)``).
+
+    Parameters
+    ----------
+    name : str
+    parameter : number, str or sympy expression, optional
+    law : expression in :data:`bondgraph.f`, optional
+        Effort as a function of flow.
+    inverse : expression in :data:`bondgraph.e`, optional
+        Flow as a function of effort.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> bg.R("d", law=bg.f*abs(bg.f)).forward()
+    f*Abs(f)
+    """
+
+    kind: ClassVar[str] = "R"
+    own: ClassVar[LawVariable] = F_VAR
+    inverse_own: ClassVar[LawVariable] = E_VAR
+    law_name: ClassVar[str] = "effort"
+    inverse_name: ClassVar[str] = "flow"
+
+    def _linear(self, f):
+        return self.parameter * f
+
+    def _linear_inverse(self, e):
+        return e / self.parameter
+
+
+@dataclass(frozen=True, eq=False)
+class _TwoPort(Element):
+    modulus: ParameterLike = None
+    bonds: ClassVar[tuple[int, Optional[int]]] = (2, 2)
+    modulated: ClassVar[bool] = False
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        owner = self.label()
+        mod = to_expr(self.modulus, owner=owner, what="modulus")
+        if mod is None and self.modulated:
+            raise ParameterError(f"{owner}: a modulated element needs modulus=<expression>")
+        if mod is not None:
+            dyn = [str(s) for s in mod.free_symbols if isinstance(s, (Signal, LawVariable)) or s == T_SYM]
+            if dyn and not self.modulated:
+                raise ParameterError(
+                    f"{owner}: modulus {mod} depends on {', '.join(sorted(dyn))}; "
+                    f"use M{self.kind} for a modulated {self.kind}"
+                )
+            law_vars = [str(s) for s in mod.free_symbols if isinstance(s, LawVariable)]
+            if law_vars:
+                raise ParameterError(
+                    f"{owner}: modulus {mod} uses {', '.join(law_vars)}; a modulus may use "
+                    "signals (bondgraph.displacement('J'), ...) and time bondgraph.t"
+                )
+        object.__setattr__(self, "modulus", mod)
+
+    def resolved(self, path: str) -> Element:
+        el = _rename(self, path)
+        prefix = path[: len(path) - len(self.name)]
+        if self.modulus is None:
+            object.__setattr__(el, "modulus", sympy.Symbol(path, positive=True))
+        else:
+            object.__setattr__(el, "modulus", _prefix_signals(self.modulus, prefix))
+        return el
+
+    def signals(self) -> frozenset:
+        return _signals_of(self.modulus)
+
+
+@dataclass(frozen=True, eq=False)
+class TF(_TwoPort):
+    """Transformer: ``e1 = n*e2``, ``f2 = n*f1`` (port 1 = bond in).
+
+    Examples
+    --------
+    >>> TF("gear", 14).modulus
+    14
+    """
+
+    kind: ClassVar[str] = "TF"
+
+
+@dataclass(frozen=True, eq=False)
+class GY(_TwoPort):
+    """Gyrator: ``e1 = r*f2``, ``e2 = r*f1``.
+
+    Examples
+    --------
+    >>> GY("K").label()
+    'GY:K'
+    """
+
+    kind: ClassVar[str] = "GY"
+
+
+@dataclass(frozen=True, eq=False)
+class MTF(_TwoPort):
+    """Modulated transformer; the modulus may use signals and time.
+
+    Examples
+    --------
+    >>> import bondgraph as bg, sympy
+    >>> yoke = bg.MTF("yoke", modulus=sympy.Symbol("r")*sympy.sin(bg.displacement("crank")))
+    >>> sorted(str(s) for s in yoke.signals())
+    ['displacement[crank]']
+    """
+
+    kind: ClassVar[str] = "MTF"
+    modulated: ClassVar[bool] = True
+
+
+@dataclass(frozen=True, eq=False)
+class MGY(_TwoPort):
+    """Modulated gyrator; the modulus may use signals and time.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> MGY("g", modulus=2*bg.t).kind
+    'MGY'
+    """
+
+    kind: ClassVar[str] = "MGY"
+    modulated: ClassVar[bool] = True
+
+
+@dataclass(frozen=True, eq=False)
+class Zero(Element):
+    """0-junction: common effort, signed flows sum to zero.
+
+    Examples
+    --------
+    >>> Zero("node").bonds
+    (2, None)
+    """
+
+    kind: ClassVar[str] = "0"
+    bonds: ClassVar[tuple[int, Optional[int]]] = (2, None)
+
+
+@dataclass(frozen=True, eq=False)
+class One(Element):
+    """1-junction: common flow, signed efforts sum to zero.
+
+    Examples
+    --------
+    >>> One("w").label()
+    '1:w'
+    """
+
+    kind: ClassVar[str] = "1"
+    bonds: ClassVar[tuple[int, Optional[int]]] = (2, None)
+
+
+@dataclass(frozen=True, eq=False)
+class Port(Element):
+    """External port of a graph used as a sub-model (exactly one inner bond).
+
+    Examples
+    --------
+    >>> Port("shaft").label()
+    'Port:shaft'
+    """
+
+    kind: ClassVar[str] = "Port"

@@ -1,0 +1,487 @@
+"""Symbolic state equations from an augmented bond graph.
+
+Bond variables are computed once each, in causal order, and substituted into
+what follows them: no solve, simplify or row reduction over the whole system.
+
+* Storage elements in integral causality give the states (``p_`` of an I,
+  ``q_`` of a C); displacement and momentum outputs that are not already
+  states add integrator states.
+* Algebraic loops: the input of each arbitrarily-causal R is replaced by an
+  unknown; each loop's closure equations form a small linear block, solved in
+  causal order (blocks are the strongly connected components of the unknowns).
+* Derivative causality: a dependent storage element's effort (I) or flow (C)
+  is the time derivative of its momentum/displacement, expressed through the
+  chain rule in the state derivatives; the resulting equations are linear in
+  those derivatives, ``E(x) x' = F(x, u)`` (kept as the descriptor form) and
+  solved block by block, which yields the effective inertia ``J1 + n**2 J2``.
+
+Examples
+--------
+>>> import bondgraph as bg
+>>> g = bg.BondGraph("msd")
+>>> F, v = bg.Se("F"), bg.One("v")
+>>> g.add(F, v, bg.I("m"), bg.R("b"), bg.C("c"))
+>>> for t, h in [(F, v), (v, "m"), (v, "b"), (v, "c")]: _ = g.connect(t, h)
+>>> model = bg.derive(g, outputs={"x": bg.effort("c")})
+>>> model.states
+(p_m, q_c)
+>>> model.rhs
+(F - b*p_m/m - q_c/c, p_m/m)
+>>> model.output_exprs
+(q_c/c,)
+"""
+
+from __future__ import annotations
+
+from typing import Mapping, Optional, Union
+
+import networkx as nx
+import sympy
+
+from .causality import AugmentedBondGraph, assign_causality, dependencies
+from .elements import Element
+from .errors import AlgebraicLoopError, OutputError
+from .flatten import FlatGraph
+from .graph import BondGraph
+from .model import Model
+from .signals import LawVariable, Signal, e as E_VAR, f as F_VAR, p as P_VAR, q as Q_VAR, t as T_SYM
+
+__all__ = ["derive"]
+
+OutputSpec = Union[Mapping[str, sympy.Expr], None]
+
+
+def derive(graph: Union[BondGraph, AugmentedBondGraph], outputs: OutputSpec = None) -> Model:
+    """Derive explicit state equations (and outputs) from a bond graph.
+
+    Parameters
+    ----------
+    graph : BondGraph or AugmentedBondGraph
+        Causality is assigned (by SCAP) when a plain graph is given.
+    outputs : mapping of str to expression, optional
+        Named outputs: expressions of signals such as ``bg.flow("J")``,
+        ``bg.displacement("J")`` or ``L*bg.displacement("hub") + ...``.
+
+    Returns
+    -------
+    Model
+        States, inputs, ``rhs`` (x' = f(x, u)), outputs and, when derivative
+        causality is present, the descriptor form.
+
+    Raises
+    ------
+    OutputError
+        An output names no element or bond, or is not an expression.
+    AlgebraicLoopError
+        A loop that is not linear in its unknowns.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("dc_motor")
+    >>> V, ia, w = bg.Se("V"), bg.One("ia"), bg.One("w")
+    >>> g.add(V, ia, w, bg.R("Ra"), bg.I("La"), bg.GY("K"), bg.I("J"), bg.R("b"))
+    >>> for tail, head in [(V, ia), (ia, "Ra"), (ia, "La"), (ia, "K"), ("K", w), (w, "J"), (w, "b")]:
+    ...     _ = g.connect(tail, head)
+    >>> model = bg.derive(g, outputs={"omega": bg.flow("J"), "theta": bg.displacement("J")})
+    >>> model.state_names
+    ('p_La', 'p_J', 'theta')
+    >>> model.rhs
+    (V - Ra*p_La/La - K*p_J/J, K*p_La/La - b*p_J/J, p_J/J)
+    """
+    aug = graph if isinstance(graph, AugmentedBondGraph) else assign_causality(graph)
+    outputs = _check_outputs(outputs)
+    return _Deriver(aug, outputs).run()
+
+
+def _check_outputs(outputs: OutputSpec) -> dict[str, sympy.Expr]:
+    if outputs is None:
+        return {}
+    if not isinstance(outputs, Mapping):
+        raise OutputError(f"outputs must be a mapping of name to signal expression; got {type(outputs).__name__}")
+    out = {}
+    for name, expr in outputs.items():
+        if not isinstance(name, str) or not name.isidentifier():
+            raise OutputError(f"output name {name!r} must be an identifier such as 'theta'")
+        if not isinstance(expr, sympy.Expr):
+            raise OutputError(
+                f"output {name!r} must be a signal expression such as bondgraph.flow('J'); "
+                f"got {type(expr).__name__} {expr!r}"
+            )
+        if not any(isinstance(s, Signal) for s in expr.free_symbols):
+            raise OutputError(f"output {name!r} = {expr} uses no signal (effort, flow, displacement, momentum)")
+        out[name] = expr
+    return out
+
+
+class _Deriver:
+    def __init__(self, aug: AugmentedBondGraph, outputs: dict[str, sympy.Expr]) -> None:
+        self.aug = aug
+        self.flat: FlatGraph = aug.flat
+        self.outputs = outputs
+        self.producer, self.inputs = dependencies(aug)
+        self.bonds = self.flat.bonds
+        self.nvar = 2 * len(self.bonds)
+        self.val: list = [None] * self.nvar
+        self.states: list[sympy.Symbol] = []
+        self.state_names: list[str] = []
+        self.state_of: dict[str, sympy.Symbol] = {}   # integral storage element -> state
+        self.integrators: dict[Signal, sympy.Symbol] = {}
+        self.input_syms: list[sympy.Symbol] = []
+        self.input_of: dict[str, sympy.Symbol] = {}
+        self.xdot: dict[sympy.Symbol, sympy.Symbol] = {}
+        self.udot: dict[sympy.Symbol, sympy.Symbol] = {}
+        self.broken: dict[int, sympy.Symbol] = {}     # var -> loop unknown
+
+    # ------------------------------------------------------------ naming
+    def _sign(self, name: str, k: int) -> int:
+        """+1 when bond k points into element `name`."""
+        return 1 if self.bonds[k].head == name else -1
+
+    def _ein(self, name: str, k: int) -> bool:
+        hge = self.aug.stroke_at_head[k]
+        return hge if self.bonds[k].head == name else not hge
+
+    def _make_symbols(self) -> None:
+        integral = set(self.aug.integral)
+        for el in self.flat.elements:
+            if el.kind in ("I", "C") and el.name in integral:
+                sym = sympy.Symbol(("p_" if el.kind == "I" else "q_") + el.name, real=True)
+                self.state_of[el.name] = sym
+                self.states.append(sym)
+                self.state_names.append(sym.name)
+            elif el.kind in ("Se", "Sf"):
+                sym = sympy.Symbol(el.name, real=True)
+                self.input_of[el.name] = sym
+                self.input_syms.append(sym)
+        for sym in self.states:
+            self.xdot[sym] = sympy.Symbol(f"Derivative({sym.name})", real=True)
+        for sym in self.input_syms:
+            self.udot[sym] = sympy.Symbol(f"d{sym.name}/dt", real=True)
+
+    def _integrator(self, sig: Signal, preferred: Optional[str]) -> sympy.Symbol:
+        if sig not in self.integrators:
+            base = "x" if sig.variable == "displacement" else "h"
+            name = preferred or f"{base}_{sig.target}"
+            taken = {s.name for s in self.states} | {s.name for s in self.input_syms}
+            if name in taken:
+                name = f"{base}_{sig.target}"
+            sym = sympy.Symbol(name, real=True)
+            self.integrators[sig] = sym
+            self.states.append(sym)
+            self.state_names.append(name)
+            self.xdot[sym] = sympy.Symbol(f"Derivative({name})", real=True)
+        return self.integrators[sig]
+
+    # ------------------------------------------------------------ signals
+    def _signal_var(self, sig: Signal) -> tuple[int, int]:
+        """(var, sign) of an effort/flow signal; var is a bond variable id."""
+        kind, target = sig.variable, sig.target
+        want_flow = kind in ("flow", "displacement")
+        if isinstance(target, int):
+            k = self.flat.bond(target).number - 1
+            return 2 * k + (1 if want_flow else 0), 1
+        if target not in self.flat.index:
+            known = ", ".join(list(self.flat.index)[:15])
+            raise OutputError(
+                f"signal {sig} names nothing: model {self.flat.name!r} has no element "
+                f"{target!r} (elements: {known}{', ...' if len(self.flat.index) > 15 else ''})"
+            )
+        el = self.flat.element(target)
+        inc = self.flat.incidence[target]
+        if el.kind in ("Se", "Sf", "I", "C", "R"):
+            (k,) = inc
+            return 2 * k + (1 if want_flow else 0), (self._sign(target, k) if want_flow else 1)
+        if el.kind == "0" and not want_flow:
+            return 2 * inc[0], 1
+        if el.kind == "1" and want_flow:
+            k = inc[0]
+            return 2 * k + 1, 1
+        raise OutputError(
+            f"signal {sig}: the {'flow' if want_flow else 'effort'} of {el.label()} is not a "
+            "single variable; name a one-port element, the effort of a 0-junction, the flow "
+            f"of a 1-junction, or a bond number ({', '.join(str(k + 1) for k in inc)})"
+        )
+
+    def _signal_deps(self, expr: Optional[sympy.Expr]) -> list[int]:
+        if expr is None:
+            return []
+        deps = []
+        for s in expr.free_symbols:
+            if isinstance(s, Signal) and s.variable in ("effort", "flow"):
+                deps.append(self._signal_var(s)[0])
+        return deps
+
+    def _signal_value(self, sig: Signal, preferred: Optional[str] = None) -> sympy.Expr:
+        if sig.variable in ("effort", "flow"):
+            v, sign = self._signal_var(sig)
+            return sign * self.val[v]
+        if isinstance(sig.target, str) and sig.target in self.state_of:
+            el = self.flat.element(sig.target)
+            if (sig.variable == "displacement" and el.kind == "C") or (sig.variable == "momentum" and el.kind == "I"):
+                return self.state_of[sig.target]
+        self._signal_var(sig)  # validate the target
+        return self._integrator(sig, preferred)
+
+    def _resolve(self, expr: sympy.Expr, preferred: Optional[str] = None) -> sympy.Expr:
+        sigs = {s: self._signal_value(s, preferred) for s in expr.free_symbols if isinstance(s, Signal)}
+        return expr.xreplace(sigs) if sigs else expr
+
+    # ------------------------------------------------------------ ordering
+    def _break_loops(self) -> None:
+        for name in self.aug.arbitrary:
+            (k,) = self.flat.incidence[name]
+            v = 2 * k if self._ein(name, k) else 2 * k + 1
+            self.broken[v] = sympy.Symbol(f"{'e' if v % 2 == 0 else 'f'}_{k + 1}", real=True)
+        for number in self.aug.arbitrary_bonds:
+            k = number - 1
+            v = 2 * k if self.aug.stroke_at_head[k] else 2 * k + 1
+            self.broken[v] = sympy.Symbol(f"{'e' if v % 2 == 0 else 'f'}_{number}", real=True)
+
+    def _order(self) -> list[int]:
+        """Variables in causal order (iterative depth-first, linear time)."""
+        elements = self.flat.elements
+        extra: dict[int, list[int]] = {}
+        for el in elements:
+            deps = self._signal_deps(_law_expr(el))
+            if deps:
+                for k in self.flat.incidence[el.name]:
+                    for v in (2 * k, 2 * k + 1):
+                        if self.producer[v] == self.flat.index[el.name]:
+                            extra[v] = deps
+        state = [0] * self.nvar  # 0 new, 1 on stack, 2 done
+        order: list[int] = []
+        for root in range(self.nvar):
+            if state[root]:
+                continue
+            stack = [(root, iter(self._deps(root, extra)))]
+            state[root] = 1
+            while stack:
+                v, it = stack[-1]
+                for u in it:
+                    if state[u] == 0:
+                        state[u] = 1
+                        stack.append((u, iter(self._deps(u, extra))))
+                        break
+                    if state[u] == 1:
+                        cyc = [w for w, _ in stack[[w for w, _ in stack].index(u):]]
+                        bonds = sorted({w // 2 + 1 for w in cyc})
+                        raise AlgebraicLoopError(
+                            f"model {self.flat.name!r}: zero-order causal loop through bonds "
+                            f"{', '.join(map(str, bonds))} that no arbitrary R choice breaks "
+                            "(a modulus that depends on the variables it modulates?)"
+                        )
+                else:
+                    state[v] = 2
+                    order.append(v)
+                    stack.pop()
+        return order
+
+    def _deps(self, v: int, extra: dict[int, list[int]]) -> list[int]:
+        ins = [u for u in self.inputs[v] if u not in self.broken]
+        return ins + extra.get(v, [])
+
+    # ------------------------------------------------------------ evaluation
+    def _inp(self, u: int) -> sympy.Expr:
+        z = self.broken.get(u)
+        return z if z is not None else self.val[u]
+
+    def _ddt(self, expr: sympy.Expr, el: Element) -> sympy.Expr:
+        """Total time derivative through states, inputs and t."""
+        terms = []
+        for s in expr.free_symbols:
+            if s in self.xdot:
+                terms.append(sympy.diff(expr, s) * self.xdot[s])
+            elif s in self.udot:
+                terms.append(sympy.diff(expr, s) * self.udot[s])
+            elif s == T_SYM:
+                terms.append(sympy.diff(expr, s))
+            elif s in self.broken.values():
+                raise AlgebraicLoopError(
+                    f"{el.label()} is in derivative causality through an algebraic loop; "
+                    "this combination is not supported"
+                )
+        return sympy.Add(*terms)
+
+    def _compute(self, v: int) -> sympy.Expr:
+        el = self.flat.elements[self.producer[v]]
+        out = self._rule(el, v)
+        if el.kind in ("I", "C", "R") and el.signals():
+            out = self._resolve(out)
+        return out
+
+    def _rule(self, el: Element, v: int) -> sympy.Expr:
+        name, kind = el.name, el.kind
+        k = v // 2
+        is_flow = v % 2 == 1
+        inc = self.flat.incidence[name]
+        if kind == "Se":
+            return self.input_of[name]
+        if kind == "Sf":
+            return -self._sign(name, k) * self.input_of[name]
+        if kind in ("I", "C", "R"):
+            s = self._sign(name, k)
+            own = {"I": P_VAR, "C": Q_VAR, "R": F_VAR}[kind]
+            if name in self.state_of:  # integral: output from the state
+                out = _subs(el.forward(), own, self.state_of[name])
+                return s * out if kind == "I" else out
+            dual_in = self._inp(v ^ 1)
+            if kind == "R":
+                if is_flow:   # f = inverse(e)
+                    return s * _subs(el.backward(), E_VAR, dual_in)
+                return _subs(el.forward(), F_VAR, s * dual_in)
+            # derivative causality: output is d/dt of the stored quantity
+            if kind == "I":
+                stored = _subs(el.backward(), F_VAR, s * dual_in)
+                return self._ddt(stored, el)
+            stored = _subs(el.backward(), E_VAR, dual_in)
+            return s * self._ddt(stored, el)
+        if kind in ("0", "1"):
+            strong_in = kind == "0"
+            strong = next(j for j in inc if self._ein(name, j) is strong_in)
+            if k != strong:
+                return self._inp(self.inputs[v][0])
+            terms = [self._sign(name, j) * self._inp(2 * j + (1 if strong_in else 0))
+                     for j in inc if j != strong]
+            return -self._sign(name, strong) * sympy.Add(*terms)
+        if kind in ("TF", "MTF", "GY", "MGY"):
+            mod = el.modulus
+            if kind in ("MTF", "MGY"):
+                mod = self._resolve(mod)
+            k_in = inc[0] if self.bonds[inc[0]].head == name else inc[1]
+            other = inc[1] if k_in == inc[0] else inc[0]
+            x = self._inp(self.inputs[v][0])
+            if kind in ("TF", "MTF"):
+                # e1 = n e2, f2 = n f1 ; or e2 = e1/n, f1 = f2/n
+                multiply = (k == k_in and not is_flow) or (k == other and is_flow)
+                return mod * x if multiply else x / mod
+            # GY: e1 = r f2, e2 = r f1 ; or f2 = e1/r, f1 = e2/r
+            return mod * x if not is_flow else x / mod
+        raise AssertionError(f"no rule for {el.label()}")  # pragma: no cover
+
+    # ------------------------------------------------------------ solving
+    def _solve_blocks(self, unknowns: dict[sympy.Symbol, sympy.Expr], what: str) -> dict:
+        """Solve u = expr(u, ...) for the unknowns, block by block in causal order."""
+        if not unknowns:
+            return {}
+        dg = nx.DiGraph()
+        dg.add_nodes_from(unknowns)
+        for u, ex in unknowns.items():
+            for s in ex.free_symbols:
+                if s in unknowns:
+                    dg.add_edge(s, u)
+        sol: dict[sympy.Symbol, sympy.Expr] = {}
+        cond = nx.condensation(dg)
+        for c in nx.topological_sort(cond):
+            block = sorted(cond.nodes[c]["members"], key=lambda s: s.name)
+            eqs = [unknowns[u].xreplace(sol) for u in block]
+            if len(block) == 1 and block[0] not in eqs[0].free_symbols:
+                sol[block[0]] = eqs[0]
+                continue
+            zero = {u: 0 for u in block}
+            M = sympy.zeros(len(block))
+            rhs = sympy.zeros(len(block), 1)
+            for i, (u, ex) in enumerate(zip(block, eqs)):
+                for j, w in enumerate(block):
+                    a = sympy.diff(ex, w)
+                    if a.free_symbols & set(block):
+                        raise AlgebraicLoopError(
+                            f"model {self.flat.name!r}: the {what} in {', '.join(map(str, block))} "
+                            "is nonlinear in its unknowns; give an explicit (inverse) law for the "
+                            "R or storage element involved"
+                        )
+                    M[i, j] = (1 if i == j else 0) - a
+                rhs[i] = ex.xreplace(zero)
+            if len(block) == 1:
+                coeff = sympy.cancel(M[0, 0])
+                sol[block[0]] = rhs[0] / coeff
+            else:
+                M = M.applyfunc(sympy.cancel)
+                x = M.LUsolve(rhs)
+                for u, val in zip(block, x):
+                    sol[u] = val
+        return sol
+
+    # ------------------------------------------------------------ main
+    def run(self) -> Model:
+        self._make_symbols()
+        self._break_loops()
+        for v in self._order():
+            self.val[v] = self._compute(v)
+
+        # raw state equations (may contain loop unknowns and state derivatives)
+        raw: list[sympy.Expr] = []
+        for el in self.flat.elements:
+            if el.name in self.state_of:
+                (k,) = self.flat.incidence[el.name]
+                if el.kind == "I":
+                    raw.append(self.val[2 * k])
+                else:
+                    raw.append(self._sign(el.name, k) * self.val[2 * k + 1])
+        out_exprs = []
+        for oname, expr in self.outputs.items():
+            preferred = oname if isinstance(expr, Signal) else None
+            out_exprs.append(self._resolve(expr, preferred))
+        # integrator states (added while resolving outputs/moduli): x' = signal
+        n_storage = len(raw)
+        done = 0
+        while done < len(self.integrators):
+            sig = list(self.integrators)[done]
+            base = Signal("flow" if sig.variable == "displacement" else "effort", sig.target)
+            raw.append(self._signal_value(base))
+            done += 1
+        # unknowns of algebraic loops
+        zsol = self._solve_blocks({z: self.val[v] for v, z in self.broken.items()}, "algebraic loop")
+        if zsol:
+            raw = [r.xreplace(zsol) for r in raw]
+            out_exprs = [o.xreplace(zsol) for o in out_exprs]
+        # derivative causality: x' = raw(x, u, x')
+        xd_syms = set(self.xdot.values())
+        states = list(self.states)
+        xd_of = [self.xdot[s] for s in states]
+        implicit = any(r.free_symbols & xd_syms for r in raw)
+        descriptor = None
+        if implicit:
+            xd_list = [self.xdot[s] for s in states]
+            E = sympy.eye(len(states))
+            F = []
+            zero = {xd: 0 for xd in xd_list}
+            for i, r in enumerate(raw):
+                for j, xd in enumerate(xd_list):
+                    if xd in r.free_symbols:
+                        E[i, j] -= sympy.diff(r, xd)
+                F.append(r.xreplace(zero))
+            descriptor = (sympy.ImmutableMatrix(E), tuple(F))
+            xsol = self._solve_blocks(dict(zip(xd_of, raw)), "derivative-causality block")
+            rhs = [xsol[xd] for xd in xd_of]
+        else:
+            rhs = raw
+            xsol = dict(zip(xd_of, raw))
+        out_exprs = [o.xreplace(xsol) if o.free_symbols & xd_syms else o for o in out_exprs]
+        inputs = tuple(self.input_syms)
+        udots = tuple(self.udot[u] for u in inputs
+                      if any(self.udot[u] in r.free_symbols for r in list(rhs) + out_exprs))
+        return Model(
+            name=self.flat.name,
+            augmented=self.aug,
+            states=tuple(states),
+            inputs=inputs,
+            output_names=tuple(self.outputs),
+            rhs=tuple(rhs),
+            output_exprs=tuple(out_exprs),
+            input_derivatives=udots,
+            descriptor=descriptor,
+            storage_states=n_storage,
+        )
+
+
+def _subs(expr: sympy.Expr, var: LawVariable, value: sympy.Expr) -> sympy.Expr:
+    return expr.xreplace({var: value})
+
+
+def _law_expr(el: Element) -> Optional[sympy.Expr]:
+    """Expression of an element holding signals (modulus or modulated law)."""
+    sigs = el.signals()
+    if not sigs:
+        return None
+    return sympy.Add(*sigs)

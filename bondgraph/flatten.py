@@ -1,0 +1,144 @@
+"""Flatten a hierarchical bond graph into one level of elements and bonds.
+
+Sub-model elements get path names (``motor.Ra``) and default parameters named
+after those paths.  Each sub-model port joins its inner bond to the outer one:
+when the two bonds run the same way through the port they become one bond;
+otherwise the port becomes a two-bond 0-junction, which keeps the sign
+conventions exact.  Bonds are numbered 1..N in creation order, a sub-model's
+bonds taking their place at the moment the sub-model was added.
+
+Examples
+--------
+>>> import bondgraph as bg
+>>> inner = bg.BondGraph("motor")
+>>> inner.add(bg.Se("V"), bg.One("i"), bg.R("Ra"), bg.Port("shaft"))
+>>> for t, h in [("V", "i"), ("i", "Ra"), ("i", "shaft")]: _ = inner.connect(t, h)
+>>> g = bg.BondGraph("top"); g.add(inner, bg.R("load"))
+>>> _ = g.connect("motor.shaft", "load")
+>>> flat = flatten(g)
+>>> [str(b) for b in flat.bonds]
+['1: motor.V -> motor.i', '2: motor.i -> motor.Ra', '3: motor.i -> load']
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Mapping
+
+from .elements import Element, Port, Zero
+from .errors import ModelStructureError, PortError, UnknownElementError
+from .graph import Bond, BondGraph
+
+__all__ = ["FlatGraph", "flatten"]
+
+
+@dataclass(frozen=True)
+class FlatGraph:
+    """A one-level bond graph: resolved elements and numbered bonds."""
+
+    name: str
+    elements: tuple[Element, ...]
+    bonds: tuple[Bond, ...]
+    #: element name -> indices (0-based) of its bonds, in order of creation
+    incidence: Mapping[str, tuple[int, ...]] = field(repr=False)
+    index: Mapping[str, int] = field(repr=False)
+
+    def element(self, name: str) -> Element:
+        """The element with this (path) name."""
+        try:
+            return self.elements[self.index[name]]
+        except KeyError:
+            raise UnknownElementError(
+                f"model {self.name!r} has no element {name!r}"
+            ) from None
+
+    def bond(self, number: int) -> Bond:
+        """The bond with this number (from 1)."""
+        if isinstance(number, bool) or not isinstance(number, int) or not 1 <= number <= len(self.bonds):
+            raise UnknownElementError(
+                f"model {self.name!r} has bonds 1..{len(self.bonds)}; got bond {number!r}"
+            )
+        return self.bonds[number - 1]
+
+
+def flatten(graph: BondGraph) -> FlatGraph:
+    """Expand sub-models and join ports; check bond counts.
+
+    Raises
+    ------
+    PortError
+        For a port left dangling.
+    ModelStructureError
+        For an element with too few bonds.
+    """
+    elements: dict[str, Element] = {}
+    ports: dict[str, str] = {}  # port path -> graph that owns it
+    bonds: list[list] = []      # [tail, head, alive]
+    _collect(graph, "", elements, ports, bonds)
+
+    touching: dict[str, list[int]] = {}
+    for k, (t, h, _) in enumerate(bonds):
+        touching.setdefault(t, []).append(k)
+        touching.setdefault(h, []).append(k)
+
+    for path, owner in ports.items():
+        ks = [k for k in touching.get(path, []) if bonds[k][2]]
+        if len(ks) != 2:
+            where = "inside" if len(ks) == 0 else "outside"
+            raise PortError(
+                f"port {path!r} of graph {owner!r} is dangling: it has {len(ks)} bond"
+                f"{'' if len(ks) == 1 else 's'} ({'no bond ' + where if len(ks) < 2 else 'too many'}); "
+                "a port needs one bond inside its graph and one outside (connect it from the "
+                "parent graph, or replace it with a source)"
+            )
+        a, b = sorted(ks)
+        ta, ha, _ = bonds[a]
+        tb, hb, _ = bonds[b]
+        if ha == path and tb == path:
+            bonds[a] = [ta, hb, True]
+            bonds[b][2] = False
+            touching.setdefault(hb, []).append(a)
+        elif ta == path and hb == path:
+            bonds[a] = [tb, ha, True]
+            bonds[b][2] = False
+            touching.setdefault(tb, []).append(a)
+        else:  # both bonds into, or both out of, the port: a 0-junction keeps the signs
+            elements[path] = Zero(path.rsplit(".", 1)[-1]).resolved(path)
+
+    live = [(t, h) for t, h, alive in bonds if alive]
+    flat_bonds = tuple(Bond(n, t, h) for n, (t, h) in enumerate(live, start=1))
+    incidence: dict[str, list[int]] = {name: [] for name in elements}
+    for k, b in enumerate(flat_bonds):
+        incidence[b.tail].append(k)
+        incidence[b.head].append(k)
+    for name, el in elements.items():
+        least, most = el.bonds
+        n = len(incidence[name])
+        if n < least or (most is not None and n > most):
+            want = f"{least}" if least == most else f"at least {least}"
+            raise ModelStructureError(
+                f"element {el.label()} has {n} bond{'s' if n != 1 else ''}; expected {want}"
+                + ("" if n else " (connect it, or remove it from the graph)")
+            )
+    names = tuple(elements)
+    return FlatGraph(
+        name=graph.name,
+        elements=tuple(elements[n] for n in names),
+        bonds=flat_bonds,
+        incidence={n: tuple(v) for n, v in incidence.items()},
+        index={n: i for i, n in enumerate(names)},
+    )
+
+
+def _collect(graph: BondGraph, prefix: str, elements, ports, bonds) -> None:
+    for name, el in graph._elements.items():
+        path = prefix + name
+        if isinstance(el, Port):
+            ports[path] = graph.name
+        else:
+            elements[path] = el.resolved(path)
+    for kind, item in graph._order:
+        if kind == "sub":
+            _collect(graph._subgraphs[item], prefix + item + ".", elements, ports, bonds)
+        else:
+            bonds.append([prefix + item.tail, prefix + item.head, True])

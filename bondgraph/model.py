@@ -1,0 +1,186 @@
+"""The derived model: an immutable record of state equations and outputs.
+
+A :class:`Model` is returned by :func:`bondgraph.derive`.  It keeps the
+explicit equations ``x' = f(x, u)`` and ``y = g(x, u)``, the descriptor form
+``E(x) x' = F(x, u)`` when derivative causality was present, and the
+augmented bond graph it came from.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Optional
+
+import sympy
+
+from .causality import AugmentedBondGraph
+from .errors import NonlinearModelError
+from .signals import t as T_SYM
+from .statespace import SymbolicStateSpace
+
+__all__ = ["Model"]
+
+
+@dataclass(frozen=True)
+class Model:
+    """Symbolic state equations of a bond graph.
+
+    Attributes
+    ----------
+    name : str
+    augmented : AugmentedBondGraph
+    states, inputs : tuple of sympy.Symbol
+    output_names : tuple of str
+    rhs : tuple of sympy.Expr
+        ``x' = rhs`` in the order of ``states``.
+    output_exprs : tuple of sympy.Expr
+    input_derivatives : tuple of sympy.Symbol
+        Input derivatives that appear (a flow source driving an inertia
+        directly, for instance); such a model has no (A, B) form.
+    descriptor : (E, F) or None
+        With derivative causality: ``E(x) x' = F(x, u)`` before solving.
+    storage_states : int
+        How many of the states belong to storage elements (the rest are
+        integrators added for displacement or momentum signals).
+    """
+
+    name: str
+    augmented: AugmentedBondGraph = field(repr=False)
+    states: tuple[sympy.Symbol, ...]
+    inputs: tuple[sympy.Symbol, ...]
+    output_names: tuple[str, ...]
+    rhs: tuple[sympy.Expr, ...] = field(repr=False)
+    output_exprs: tuple[sympy.Expr, ...] = field(repr=False)
+    input_derivatives: tuple[sympy.Symbol, ...] = field(default=(), repr=False)
+    descriptor: Optional[tuple] = field(default=None, repr=False)
+    storage_states: int = field(default=0, repr=False)
+
+    # ----------------------------------------------------------------- names
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        return tuple(s.name for s in self.states)
+
+    @property
+    def input_names(self) -> tuple[str, ...]:
+        return tuple(s.name for s in self.inputs)
+
+    @property
+    def parameters(self) -> tuple[sympy.Symbol, ...]:
+        """Parameter symbols appearing in the equations, sorted by name."""
+        known = set(self.states) | set(self.inputs) | set(self.input_derivatives) | {T_SYM}
+        syms = set()
+        for ex in self.rhs + self.output_exprs:
+            syms |= ex.free_symbols
+        if self.descriptor is not None:
+            syms |= self.descriptor[0].free_symbols
+        return tuple(sorted(syms - known, key=lambda s: s.name))
+
+    @property
+    def equations(self) -> tuple[sympy.Eq, ...]:
+        """``Eq(Derivative(x, t), f)`` for each state, then ``Eq(y, g)``."""
+        eqs = [sympy.Eq(sympy.Symbol(f"d{s.name}/dt"), r, evaluate=False)
+               for s, r in zip(self.states, self.rhs)]
+        eqs += [sympy.Eq(sympy.Symbol(n), g, evaluate=False)
+                for n, g in zip(self.output_names, self.output_exprs)]
+        return tuple(eqs)
+
+    def __str__(self) -> str:
+        lines = [f"model {self.name!r}: {len(self.states)} states, {len(self.inputs)} inputs, "
+                 f"{len(self.output_names)} outputs"]
+        for s, r in zip(self.states, self.rhs):
+            lines.append(f"  d{s.name}/dt = {r}")
+        for n, g in zip(self.output_names, self.output_exprs):
+            lines.append(f"  {n} = {g}")
+        return "\n".join(lines)
+
+    # ----------------------------------------------------------------- linear forms
+    @property
+    def is_linear(self) -> bool:
+        """Whether ``rhs`` and outputs are linear in states and inputs."""
+        try:
+            self.state_space()
+        except NonlinearModelError:
+            return False
+        return True
+
+    def state_space(self) -> SymbolicStateSpace:
+        """A, B, C, D of a linear model (sympy ImmutableMatrix), with names.
+
+        Raises
+        ------
+        NonlinearModelError
+            If an equation is not linear in states and inputs, has a constant
+            term, depends on time or on input derivatives.
+
+        Examples
+        --------
+        >>> import bondgraph as bg
+        >>> g = bg.BondGraph("rc")
+        >>> V, n = bg.Se("V"), bg.One("i")
+        >>> g.add(V, n, bg.R("R"), bg.C("C"))
+        >>> _ = g.connect(V, n); _ = g.connect(n, "R"); _ = g.connect(n, "C")
+        >>> ss = bg.derive(g, outputs={"vC": bg.effort("C")}).state_space()
+        >>> ss.A, ss.B, ss.C, ss.D
+        (Matrix([[-1/(C*R)]]), Matrix([[1/R]]), Matrix([[1/C]]), Matrix([[0]]))
+        """
+        x, u = self.states, self.inputs
+        A = _jacobian(self.rhs, x, u, self, "state equation", "x'")
+        B = _jacobian(self.rhs, u, x, self, "state equation", "x'", check_offset=False)
+        C = _jacobian(self.output_exprs, x, u, self, "output", "y")
+        D = _jacobian(self.output_exprs, u, x, self, "output", "y", check_offset=False)
+        return SymbolicStateSpace(A, B, C, D, self.state_names, self.input_names, self.output_names)
+
+    def descriptor_form(self) -> SymbolicStateSpace:
+        """``E x' = A x + B u`` as derived, before eliminating dependent storage.
+
+        Without derivative causality ``E`` is the identity.
+        """
+        if self.descriptor is None:
+            ss = self.state_space()
+            return SymbolicStateSpace(ss.A, ss.B, ss.C, ss.D, ss.state_names,
+                                      ss.input_names, ss.output_names,
+                                      sympy.ImmutableMatrix(sympy.eye(len(self.states))))
+        E, F = self.descriptor
+        x, u = self.states, self.inputs
+        A = _jacobian(F, x, u, self, "state equation", "F")
+        B = _jacobian(F, u, x, self, "state equation", "F", check_offset=False)
+        C = _jacobian(self.output_exprs, x, u, self, "output", "y")
+        D = _jacobian(self.output_exprs, u, x, self, "output", "y", check_offset=False)
+        if E.free_symbols & (set(x) | set(u)):
+            raise NonlinearModelError(f"model {self.name!r}: E depends on the states")
+        return SymbolicStateSpace(A, B, C, D, self.state_names, self.input_names,
+                                  self.output_names, E)
+
+
+def _jacobian(exprs, wrt, others, model: Model, what: str, lhs: str, *, check_offset: bool = True):
+    """Sparse Jacobian of expressions known to be linear; checks linearity."""
+    wrt = tuple(wrt)
+    col = {s: j for j, s in enumerate(wrt)}
+    variables = set(wrt) | set(others)
+    bad = set(model.input_derivatives) | {T_SYM}
+    entries = {}
+    for i, ex in enumerate(exprs):
+        free = ex.free_symbols
+        if free & bad:
+            raise NonlinearModelError(
+                f"model {model.name!r}: {what} {i + 1} depends on "
+                f"{', '.join(sorted(str(s) for s in free & bad))}; it has no constant (A, B) form"
+            )
+        for s in free & set(wrt):
+            d = sympy.diff(ex, s)
+            if d.free_symbols & variables:
+                raise NonlinearModelError(
+                    f"model {model.name!r}: {what} {i + 1} ({lhs}) is nonlinear in {s}: "
+                    f"d/d{s} = {d}; use a linearization about an operating point"
+                )
+            if d != 0:
+                entries[(i, col[s])] = d
+        if check_offset and free:
+            zero = {s: 0 for s in free & variables}
+            off = ex.xreplace(zero)
+            if off != 0:
+                raise NonlinearModelError(
+                    f"model {model.name!r}: {what} {i + 1} ({lhs}) has the constant term {off}; "
+                    "model constant loads as sources (inputs)"
+                )
+    return sympy.ImmutableMatrix(sympy.SparseMatrix(len(exprs), len(wrt), entries))

@@ -1,0 +1,97 @@
+"""Symbolic linear state-space systems with named signals.
+
+Examples
+--------
+>>> import sympy
+>>> from bondgraph.statespace import SymbolicStateSpace
+>>> m, k = sympy.symbols("m k", positive=True)
+>>> ss = SymbolicStateSpace(sympy.ImmutableMatrix([[0, 1/m], [-k, 0]]),
+...     sympy.ImmutableMatrix([[1], [0]]), sympy.ImmutableMatrix([[0, 1]]),
+...     sympy.ImmutableMatrix([[0]]), ("p", "q"), ("F",), ("x",))
+>>> ss.nstates, ss.ninputs, ss.noutputs
+(2, 1, 1)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Mapping
+
+import sympy
+
+from .errors import BondGraphError
+
+__all__ = ["SymbolicStateSpace"]
+
+
+@dataclass(frozen=True)
+class SymbolicStateSpace:
+    """``x' = A x + B u``, ``y = C x + D u`` with symbolic entries and names.
+
+    When ``E`` is given the system is in descriptor form ``E x' = A x + B u``.
+    """
+
+    A: sympy.ImmutableMatrix
+    B: sympy.ImmutableMatrix
+    C: sympy.ImmutableMatrix
+    D: sympy.ImmutableMatrix
+    state_names: tuple[str, ...]
+    input_names: tuple[str, ...]
+    output_names: tuple[str, ...]
+    E: sympy.ImmutableMatrix | None = None
+
+    def __post_init__(self) -> None:
+        n, m, p = len(self.state_names), len(self.input_names), len(self.output_names)
+        for label, mat, shape in (("A", self.A, (n, n)), ("B", self.B, (n, m)),
+                                  ("C", self.C, (p, n)), ("D", self.D, (p, m))):
+            if mat.shape != shape:
+                raise BondGraphError(
+                    f"state-space matrix {label} has shape {mat.shape}; expected {shape} "
+                    f"for {n} states, {m} inputs, {p} outputs"
+                )
+
+    @property
+    def nstates(self) -> int:
+        return len(self.state_names)
+
+    @property
+    def ninputs(self) -> int:
+        return len(self.input_names)
+
+    @property
+    def noutputs(self) -> int:
+        return len(self.output_names)
+
+    @property
+    def parameters(self) -> tuple[sympy.Symbol, ...]:
+        """Free symbols of the matrices, sorted by name."""
+        syms = set()
+        for mat in (self.A, self.B, self.C, self.D) + ((self.E,) if self.E is not None else ()):
+            syms |= mat.free_symbols
+        return tuple(sorted(syms, key=lambda s: s.name))
+
+    def subs(self, values: Mapping) -> "SymbolicStateSpace":
+        """Substitute parameter values (symbols or numbers) in every matrix."""
+        sub = {(_sym(self, k) if isinstance(k, str) else k): v for k, v in values.items()}
+        def f(mat):
+            return None if mat is None else sympy.ImmutableMatrix(mat.xreplace(
+                {k: sympy.sympify(v) for k, v in sub.items()}))
+        return SymbolicStateSpace(f(self.A), f(self.B), f(self.C), f(self.D),
+                                  self.state_names, self.input_names, self.output_names, f(self.E))
+
+    def __str__(self) -> str:
+        parts = [f"states  {list(self.state_names)}", f"inputs  {list(self.input_names)}",
+                 f"outputs {list(self.output_names)}"]
+        for label in ("E", "A", "B", "C", "D"):
+            mat = getattr(self, label)
+            if mat is not None:
+                parts.append(f"{label} = {sympy.pretty(mat, use_unicode=False)}")
+        return "\n".join(parts)
+
+
+def _sym(ss: SymbolicStateSpace, name: str) -> sympy.Symbol:
+    for s in ss.parameters:
+        if s.name == name:
+            return s
+    raise BondGraphError(f"no parameter named {name!r}; parameters are "
+                         f"{', '.join(s.name for s in ss.parameters)}")
