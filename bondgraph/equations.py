@@ -132,6 +132,8 @@ class _Deriver:
         self.xdot: dict[sympy.Symbol, sympy.Symbol] = {}
         self.udot: dict[sympy.Symbol, sympy.Symbol] = {}
         self.broken: dict[int, sympy.Symbol] = {}     # var -> loop unknown
+        # an integrator that is exactly an output takes the output's name
+        self.preferred = {ex: n for n, ex in outputs.items() if isinstance(ex, Signal)}
 
     # ------------------------------------------------------------ naming
     def _sign(self, name: str, k: int) -> int:
@@ -159,10 +161,10 @@ class _Deriver:
         for sym in self.input_syms:
             self.udot[sym] = sympy.Symbol(f"d{sym.name}/dt", real=True)
 
-    def _integrator(self, sig: Signal, preferred: Optional[str]) -> sympy.Symbol:
+    def _integrator(self, sig: Signal) -> sympy.Symbol:
         if sig not in self.integrators:
             base = "x" if sig.variable == "displacement" else "h"
-            name = preferred or f"{base}_{sig.target}"
+            name = self.preferred.get(sig) or f"{base}_{sig.target}"
             taken = {s.name for s in self.states} | {s.name for s in self.input_syms}
             if name in taken:
                 name = f"{base}_{sig.target}"
@@ -179,7 +181,10 @@ class _Deriver:
         kind, target = sig.variable, sig.target
         want_flow = kind in ("flow", "displacement")
         if isinstance(target, int):
-            k = self.flat.bond(target).number - 1
+            if not 1 <= target <= len(self.bonds):
+                raise OutputError(f"signal {sig} names nothing: model {self.flat.name!r} has "
+                                  f"bonds 1..{len(self.bonds)}; got bond {target}")
+            k = target - 1
             return 2 * k + (1 if want_flow else 0), 1
         if target not in self.flat.index:
             known = ", ".join(list(self.flat.index)[:15])
@@ -212,7 +217,7 @@ class _Deriver:
                 deps.append(self._signal_var(s)[0])
         return deps
 
-    def _signal_value(self, sig: Signal, preferred: Optional[str] = None) -> sympy.Expr:
+    def _signal_value(self, sig: Signal) -> sympy.Expr:
         if sig.variable in ("effort", "flow"):
             v, sign = self._signal_var(sig)
             return sign * self.val[v]
@@ -221,10 +226,10 @@ class _Deriver:
             if (sig.variable == "displacement" and el.kind == "C") or (sig.variable == "momentum" and el.kind == "I"):
                 return self.state_of[sig.target]
         self._signal_var(sig)  # validate the target
-        return self._integrator(sig, preferred)
+        return self._integrator(sig)
 
-    def _resolve(self, expr: sympy.Expr, preferred: Optional[str] = None) -> sympy.Expr:
-        sigs = {s: self._signal_value(s, preferred) for s in expr.free_symbols if isinstance(s, Signal)}
+    def _resolve(self, expr: sympy.Expr) -> sympy.Expr:
+        sigs = {s: self._signal_value(s) for s in expr.free_symbols if isinstance(s, Signal)}
         return expr.xreplace(sigs) if sigs else expr
 
     # ------------------------------------------------------------ ordering
@@ -419,9 +424,8 @@ class _Deriver:
                 else:
                     raw.append(self._sign(el.name, k) * self.val[2 * k + 1])
         out_exprs = []
-        for oname, expr in self.outputs.items():
-            preferred = oname if isinstance(expr, Signal) else None
-            out_exprs.append(self._resolve(expr, preferred))
+        for expr in self.outputs.values():
+            out_exprs.append(self._resolve(expr))
         # integrator states (added while resolving outputs/moduli): x' = signal
         n_storage = len(raw)
         done = 0
