@@ -406,12 +406,18 @@ class R(_OnePort):
 @dataclass(frozen=True, eq=False)
 class _TwoPort(Element):
     modulus: ParameterLike = None
+    efficiency: ParameterLike = field(default=None, kw_only=True)
     bonds: ClassVar[tuple[int, Optional[int]]] = (2, 2)
     modulated: ClassVar[bool] = False
 
     def __post_init__(self) -> None:
         super().__post_init__()
         owner = self.label()
+        eff = to_expr(self.efficiency, owner=owner, what="efficiency")
+        if eff is not None and (eff.free_symbols & {T_SYM} or
+                                any(isinstance(s, (Signal, LawVariable)) for s in eff.free_symbols)):
+            raise ParameterError(f"{owner}: efficiency {eff} must be a constant parameter")
+        object.__setattr__(self, "efficiency", sympy.Integer(1) if eff is None else eff)
         mod = to_expr(self.modulus, owner=owner, what="modulus")
         if mod is None and self.modulated:
             raise ParameterError(f"{owner}: a modulated element needs modulus=<expression>")
@@ -447,6 +453,11 @@ class _TwoPort(Element):
 class TF(_TwoPort):
     """Transformer: ``e1 = n*e2``, ``f2 = n*f1`` (port 1 = bond in).
 
+    ``efficiency=eta`` makes it lossy the way servo-motor data sheets do
+    (Quanser SRV-02 gearbox): ``f2 = n*f1`` still, but ``e2 = eta*e1/n``, so
+    the power out of port 2 is ``eta`` times the power into port 1.  This is
+    exact in the motoring quadrant (power from port 1 to port 2).
+
     Examples
     --------
     >>> TF("gear", 14).modulus
@@ -459,6 +470,9 @@ class TF(_TwoPort):
 @dataclass(frozen=True, eq=False)
 class GY(_TwoPort):
     """Gyrator: ``e1 = r*f2``, ``e2 = r*f1``.
+
+    ``efficiency=eta`` gives ``e2 = eta*r*f1`` with ``e1 = r*f2`` unchanged
+    (a DC motor whose torque is ``eta_m*k*i`` and back-emf ``k*w``).
 
     Examples
     --------

@@ -356,12 +356,16 @@ class _Deriver:
             k_in = inc[0] if self.bonds[inc[0]].head == name else inc[1]
             other = inc[1] if k_in == inc[0] else inc[0]
             x = self._inp(self.inputs[v][0])
+            eta = el.efficiency
             if kind in ("TF", "MTF"):
-                # e1 = n e2, f2 = n f1 ; or e2 = e1/n, f1 = f2/n
-                multiply = (k == k_in and not is_flow) or (k == other and is_flow)
-                return mod * x if multiply else x / mod
-            # GY: e1 = r f2, e2 = r f1 ; or f2 = e1/r, f1 = e2/r
-            return mod * x if not is_flow else x / mod
+                # e1 = n e2 / eta, f2 = n f1 ; or e2 = eta e1 / n, f1 = f2 / n
+                if is_flow:
+                    return mod * x if k == other else x / mod
+                return mod * x / eta if k == k_in else eta * x / mod
+            # GY: e1 = r f2, e2 = eta r f1 ; or f2 = e1 / r, f1 = e2 / (eta r)
+            if not is_flow:
+                return mod * x if k == k_in else eta * mod * x
+            return x / mod if k == other else x / (eta * mod)
         raise AssertionError(f"no rule for {el.label()}")  # pragma: no cover
 
     # ------------------------------------------------------------ solving
