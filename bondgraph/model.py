@@ -130,6 +130,61 @@ class Model:
         D = _jacobian(self.output_exprs, u, x, self, "output", "y", check_offset=False)
         return SymbolicStateSpace(A, B, C, D, self.state_names, self.input_names, self.output_names)
 
+    def linearize(self, x0=None, u0=None, *, equilibrium: bool = True) -> SymbolicStateSpace:
+        """Linearize about an operating point ``(x0, u0)`` by symbolic Jacobians.
+
+        Parameters
+        ----------
+        x0, u0 : mapping of state / input name (or symbol) to value
+            Every state and input needs a value (numbers or sympy expressions).
+        equilibrium : bool
+            When True (default), ``f(x0, u0)`` must vanish; otherwise the
+            linearization about a non-equilibrium point is returned (the
+            constant drift ``f(x0, u0)`` is then dropped).
+
+        Returns
+        -------
+        SymbolicStateSpace
+            In deviation variables ``x - x0``, ``u - u0``.
+
+        Examples
+        --------
+        >>> import bondgraph as bg, sympy
+        >>> m, g_, l = sympy.symbols("m g l", positive=True)
+        >>> g = bg.BondGraph("pendulum")
+        >>> w = bg.One("w")
+        >>> g.add(bg.Se("T"), w, bg.I("J"), bg.C("grav", law=m*g_*l*sympy.sin(bg.q)))
+        >>> for t, h in [("T", w), (w, "J"), (w, "grav")]: _ = g.connect(t, h)
+        >>> lin = bg.derive(g).linearize({"p_J": 0, "q_grav": 0}, {"T": 0})
+        >>> lin.A
+        Matrix([
+        [  0, -g*l*m],
+        [1/J,      0]])
+        """
+        x, u = self.states, self.inputs
+        point = {**_point(self, x0, x, "state"), **_point(self, u0, u, "input")}
+        bad = set(self.input_derivatives) | {T_SYM}
+        for ex in self.rhs + self.output_exprs:
+            if ex.free_symbols & bad:
+                raise NonlinearModelError(
+                    f"model {self.name!r} depends on {', '.join(map(str, ex.free_symbols & bad))}; "
+                    "it cannot be linearized to a constant (A, B)")
+        if equilibrium:
+            for s_, r in zip(x, self.rhs):
+                val = sympy.simplify(r.xreplace(point))
+                if val != 0:
+                    raise NonlinearModelError(
+                        f"model {self.name!r}: the operating point is not an equilibrium: "
+                        f"d{s_.name}/dt = {val} there; pass equilibrium=False to linearize "
+                        "about a non-equilibrium point")
+
+        def jac(exprs, wrt):
+            return sympy.ImmutableMatrix(len(exprs), len(wrt), lambda i, j: sympy.simplify(
+                sympy.diff(exprs[i], wrt[j]).xreplace(point)))
+        return SymbolicStateSpace(jac(self.rhs, x), jac(self.rhs, u), jac(self.output_exprs, x),
+                                  jac(self.output_exprs, u), self.state_names, self.input_names,
+                                  self.output_names)
+
     def descriptor_form(self) -> SymbolicStateSpace:
         """``E x' = A x + B u`` as derived, before eliminating dependent storage.
 
@@ -150,6 +205,26 @@ class Model:
             raise NonlinearModelError(f"model {self.name!r}: E depends on the states")
         return SymbolicStateSpace(A, B, C, D, self.state_names, self.input_names,
                                   self.output_names, E)
+
+
+def _point(model: Model, values, symbols, what: str) -> dict:
+    """Map names or symbols of states/inputs to sympy values; all must be given."""
+    values = dict(values or {})
+    by_name = {s.name: s for s in symbols}
+    out = {}
+    for key, val in values.items():
+        name = key.name if isinstance(key, sympy.Symbol) else key
+        if name not in by_name:
+            raise NonlinearModelError(
+                f"model {model.name!r}: {what} {name!r} is not one of {', '.join(by_name)}")
+        out[by_name[name]] = val if isinstance(val, sympy.Basic) else sympy.sympify(
+            float(val) if not isinstance(val, int) else val)
+    missing = [n for n, sym in by_name.items() if sym not in out]
+    if missing:
+        raise NonlinearModelError(
+            f"model {model.name!r}: the operating point needs a value for {what}s "
+            f"{', '.join(missing)}")
+    return out
 
 
 def _jacobian(exprs, wrt, others, model: Model, what: str, lhs: str, *, check_offset: bool = True):
