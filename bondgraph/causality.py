@@ -103,6 +103,10 @@ class AugmentedBondGraph:
         b = self.flat.bond(number)
         return (b.head == element) == self.stroke_at_head[number - 1]
 
+    def _repr_svg_(self):
+        from .drawing import repr_svg
+        return repr_svg(self)
+
     def __str__(self) -> str:
         lines = [f"augmented bond graph {self.name!r}"]
         lines += [f"  {b}" for b in self.bonds]
@@ -147,6 +151,7 @@ class _Scap:
         self.undecided = {n: len(flat.incidence[n]) for n in flat.index}
         self.efforts_in = {n: 0 for n in flat.index}  # decided bonds with effort into n
         self.queue: deque = deque()
+        self.trail: list[int] | None = None  # bonds decided since the last arbitrary choice
 
     # effort into element `name` on bond k?
     def _ein(self, name: str, k: int):
@@ -166,6 +171,8 @@ class _Scap:
             return
         self.head_gets_effort[k] = want
         self.why[k] = reason
+        if self.trail is not None:
+            self.trail.append(k)
         for end in (b.tail, b.head):
             self.undecided[end] -= 1
             if self._ein(end, k):
@@ -185,6 +192,42 @@ class _Scap:
         return (f"causality conflict on bond {b.number} ({b.tail} -> {b.head}): "
                 f"{el.label()} needs it {need} ({reason}), but it was already decided by "
                 f"{self.why[k]}.{hint}")
+
+    def _choose(self, k: int, name: str, reason: str) -> None:
+        """Make an arbitrary choice on bond k, trying the other one on a conflict.
+
+        The bonds decided by the first try are journalled and undone on a
+        conflict, so the cost stays proportional to what the choice touched.
+        """
+        self.trail = []
+        try:
+            self._set(k, name, False, reason)
+            self._propagate()
+        except CausalityConflictError as first:
+            self._undo()
+            try:
+                self._set(k, name, True, reason)
+                self._propagate()
+            except CausalityConflictError as second:
+                raise CausalityConflictError(
+                    f"{second} (both causalities of bond {k + 1} lead to a conflict; the "
+                    "junction structure may be redundant, e.g. a circuit drawn with a 0-junction "
+                    "for every node including ground: remove the ground node's junction)"
+                ) from first
+        finally:
+            self.trail = None
+
+    def _undo(self) -> None:
+        for k in reversed(self.trail):
+            b = self.bonds[k]
+            for end in (b.tail, b.head):
+                self.undecided[end] += 1
+                if self._ein(end, k):
+                    self.efforts_in[end] -= 1
+            self.head_gets_effort[k] = None
+            self.why[k] = None
+        self.trail = []
+        self.queue.clear()
 
     def _propagate(self) -> None:
         flat = self.flat
@@ -253,14 +296,12 @@ class _Scap:
                 (k,) = flat.incidence[el.name]
                 if self.head_gets_effort[k] is None:
                     arbitrary.append(el.name)
-                    self._set(k, el.name, False, f"arbitrary choice for {el.label()}")
-                    self._propagate()
+                    self._choose(k, el.name, f"arbitrary choice for {el.label()}")
         arbitrary_bonds = []
-        for k, v in enumerate(self.head_gets_effort):
-            if v is None:
+        for k in range(len(self.bonds)):
+            if self.head_gets_effort[k] is None:
                 arbitrary_bonds.append(self.bonds[k].number)
-                self._set(k, self.bonds[k].head, True, f"arbitrary choice for bond {k + 1}")
-                self._propagate()
+                self._choose(k, self.bonds[k].head, f"arbitrary choice for bond {k + 1}")
         integral, derivative = [], []
         for el in els:
             if el.kind in _STORAGE:

@@ -287,3 +287,41 @@ def test_linear_combination_output_tip_deflection():
     model = bg.derive(g, outputs={"y": Lb * bg.displacement("J") + phi * bg.displacement("k")})
     J, k = P("J k")
     assert_same_tf(tf_of(model, "T", "y"), (Lb + phi) / (J * s**2 + k))
+
+
+def test_wheatstone_bridge_with_capacitor_algebraic_loop():
+    # nodal analysis (ground = bottom node, a = V):
+    #   (V - vb)/R1 = vb/R3 + (vb - vc) C s ;  (V - vc)/R2 + (vb - vc) C s = vc/R4 ;  vC = vb - vc
+    g = bg.BondGraph("bridge")
+    g.add(bg.Se("V"), *(bg.Zero(n) for n in ("na", "nb", "nc")))
+    g.connect("V", "na")
+    for i, (p, q) in enumerate([("na", "nb"), ("na", "nc"), ("nb", None), ("nc", None),
+                                ("nb", "nc")], start=1):
+        el = bg.R(f"R{i}") if i != 5 else bg.C("C5")
+        if q is None:
+            g.add(el)
+            g.connect(p, el.name)
+        else:
+            g.add(bg.One(f"i{i}"), el)
+            connect_all(g, [(p, f"i{i}"), (f"i{i}", q), (f"i{i}", el.name)])
+    model = bg.derive(g, outputs={"vC": bg.effort("C5")})
+    assert model.augmented.arbitrary and model.augmented.loops
+    R1, R2, R3, R4, C5 = P("R1 R2 R3 R4 C5")
+    V, vb, vc = sympy.symbols("V v_b v_c")
+    sol = sympy.solve([(V - vb) / R1 - vb / R3 - (vb - vc) * C5 * s,
+                       (V - vc) / R2 + (vb - vc) * C5 * s - vc / R4], [vb, vc])
+    assert_same_tf(tf_of(model, "V", "vC"), (sol[vb] - sol[vc]) / V)
+
+
+def test_floating_node_junction_structure_is_reported():
+    # the same bridge drawn with a 0-junction for the ground node too: node
+    # potentials are then defined only up to a constant
+    g = bg.BondGraph("bridge")
+    g.add(bg.Se("V"), bg.One("src"), *(bg.Zero(n) for n in ("na", "nb", "nc", "nd")))
+    connect_all(g, [("V", "src"), ("src", "na"), ("nd", "src")])
+    for i, (p, q) in enumerate([("na", "nb"), ("na", "nc"), ("nb", "nd"), ("nc", "nd"),
+                                ("nb", "nc")], start=1):
+        g.add(bg.One(f"i{i}"), bg.R(f"R{i}") if i != 5 else bg.C("C5"))
+        connect_all(g, [(p, f"i{i}"), (f"i{i}", q), (f"i{i}", f"R{i}" if i != 5 else "C5")])
+    with pytest.raises(bg.CausalityConflictError, match="remove the ground node"):
+        bg.assign_causality(g)

@@ -1,0 +1,40 @@
+"""Drawings of bond graphs: augmented bond graphs with causal strokes, as SVG or PNG.
+
+:func:`draw` lays a graph out from its structure (the longest junction chain
+left to right, one-port elements around their junctions), and draws each
+bond with its half-arrow, its number and its causal stroke.  Storage elements
+in derivative causality are shown in red, algebraic-loop bonds in orange.
+PNG files are rendered with matplotlib from the same geometry.
+
+The pipeline, one module each: :mod:`.source` (what to draw) ->
+:mod:`.layout` (grid cells) -> :mod:`.scene` (geometry in px) ->
+:mod:`.svg` / :mod:`.raster` (output); :mod:`.api` holds :func:`draw`.
+
+Examples
+--------
+>>> import bondgraph as bg
+>>> from bondgraph.drawing import draw
+>>> g = bg.BondGraph("dc_motor")
+>>> V, ia, w = bg.Se("V"), bg.One("ia"), bg.One("w")
+>>> g.add(V, ia, w, bg.R("Ra"), bg.I("La"), bg.GY("K"), bg.I("J"), bg.R("b"))
+>>> for tail, head in [(V, ia), (ia, "Ra"), (ia, "La"), (ia, "K"), ("K", w), (w, "J"), (w, "b")]:
+...     _ = g.connect(tail, head)
+>>> svg = draw(g)
+>>> all(s in svg for s in ("Se:V", "I:La", "GY:K", "R:b"))
+True
+"""
+
+from .api import draw, repr_svg
+from .layout import boxes_overlap, grid_layout, overlapping_pairs
+from .scene import BondShape, Label, Scene, build_scene
+from .source import Diagram, DrawingError, Edge, Node, diagram
+from .svg import scene_to_svg
+from .raster import scene_figure, write_png
+
+__all__ = [
+    "draw", "repr_svg", "DrawingError",
+    "diagram", "Diagram", "Node", "Edge",
+    "grid_layout", "boxes_overlap", "overlapping_pairs",
+    "build_scene", "Scene", "Label", "BondShape",
+    "scene_to_svg", "scene_figure", "write_png",
+]

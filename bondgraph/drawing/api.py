@@ -1,0 +1,159 @@
+"""``draw()``: a bond graph as SVG text, or an SVG / PNG file.
+
+Examples
+--------
+>>> import bondgraph as bg
+>>> g = bg.BondGraph("rl")
+>>> V, j = bg.Se("V"), bg.One("j")
+>>> g.add(V, j, bg.R("R"), bg.I("L"))
+>>> for t, h in [(V, j), (j, "R"), (j, "L")]: _ = g.connect(t, h)
+>>> svg = draw(g)
+>>> "Se:V" in svg and 'class="stroke"' in svg
+True
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+from typing import Optional, Union
+
+from ..errors import BondGraphError
+from .raster import write_png
+from .scene import build_scene
+from .source import Drawable, DrawingError, diagram
+from .svg import scene_to_svg
+
+__all__ = ["draw", "repr_svg"]
+
+_FORMATS = ("svg", "png")
+
+
+def draw(obj: Drawable, path: Union[str, os.PathLike, None] = None, *,
+         fmt: Optional[str] = None, causality: bool = True, expand: bool = True,
+         wrap: int = 14, dpi: float = 150.0) -> str:
+    """Draw a bond graph (augmented with causal strokes) as SVG, optionally to a file.
+
+    Parameters
+    ----------
+    obj : BondGraph, AugmentedBondGraph, FlatGraph or Model
+        What to draw.  A :class:`~bondgraph.BondGraph` gets causality assigned
+        when ``causality`` is true; a :class:`~bondgraph.Model` is drawn from
+        its ``augmented`` graph.
+    path : str or path-like, optional
+        File to write; the format comes from ``fmt`` or else the suffix
+        (``.svg`` or ``.png``).  The file is replaced atomically.
+    fmt : {'svg', 'png'}, optional
+        Output format of ``path``.
+    causality : bool
+        Show causal strokes, derivative-causality storage (red) and
+        algebraic-loop bonds (orange).
+    expand : bool
+        Draw sub-models expanded (hierarchical names); False draws each
+        sub-model of a :class:`~bondgraph.BondGraph` as one box with its
+        ports as bond ends (bond numbers are then the builder's).
+    wrap : int
+        Longest run of the main chain on one row before it snakes back.
+    dpi : float
+        PNG resolution (100 = one pixel per SVG unit).
+
+    Returns
+    -------
+    str
+        The SVG text (also when a PNG is written).
+
+    Raises
+    ------
+    DrawingError
+        For an unknown format or suffix, or ``expand=False`` on a flattened graph.
+    CausalityConflictError
+        When causality cannot be assigned (draw with ``causality=False``).
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("rc")
+    >>> V, n = bg.Se("V"), bg.Zero("n")
+    >>> g.add(V, n, bg.R("R"), bg.C("C"))
+    >>> for t, h in [(V, n), (n, "R"), (n, "C")]: _ = g.connect(t, h)
+    >>> svg = draw(g)
+    >>> svg.count('class="stroke"'), "C:C" in svg
+    (3, True)
+    >>> import os, tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     _ = draw(g, os.path.join(d, "rc.png"))
+    ...     os.path.getsize(os.path.join(d, "rc.png")) > 0
+    True
+    """
+    kind = None
+    if path is not None:
+        kind = _format(path, fmt)
+    elif fmt is not None and fmt.lower() not in _FORMATS:
+        raise DrawingError(f"unknown drawing format {fmt!r}; expected one of {', '.join(_FORMATS)}")
+    scene = build_scene(diagram(obj, causality=causality, expand=expand), wrap=wrap)
+    svg = scene_to_svg(scene)
+    if path is not None:
+        if kind == "svg":
+            _atomic_write(path, lambda f: f.write(svg.encode("utf-8")))
+        else:
+            _atomic_write(path, lambda f: write_png(scene, f, dpi=dpi))
+    return svg
+
+
+def repr_svg(obj: Drawable) -> Optional[str]:
+    """SVG for notebooks (``_repr_svg_``): never raises for a bond graph.
+
+    Draws with causality when it can be assigned, else without; a graph with
+    open ports (a sub-model on its own) is drawn unexpanded.  Returns None
+    when nothing can be drawn, which tells IPython to fall back to text.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("sub"); g.add(bg.R("R"), bg.Port("p")); _ = g.connect("p", "R")
+    >>> "Port:p" in repr_svg(g)
+    True
+    """
+    attempts = ({"causality": True, "expand": True}, {"causality": False, "expand": True},
+                {"causality": False, "expand": False})
+    for opts in attempts:
+        try:
+            return draw(obj, **opts)
+        except BondGraphError:
+            continue
+    return None
+
+
+def _format(path, fmt: Optional[str]) -> str:
+    if fmt is not None:
+        kind = fmt.lower().lstrip(".")
+        if kind not in _FORMATS:
+            raise DrawingError(f"unknown drawing format {fmt!r}; expected one of "
+                               f"{', '.join(_FORMATS)}")
+        return kind
+    suffix = Path(os.fspath(path)).suffix.lower().lstrip(".")
+    if suffix not in _FORMATS:
+        raise DrawingError(
+            f"cannot tell the drawing format of {os.fspath(path)!r} from its suffix "
+            f"{('.' + suffix) if suffix else '(none)'}; use .svg or .png, or pass "
+            "fmt='svg' or fmt='png'"
+        )
+    return suffix
+
+
+def _atomic_write(path, write) -> None:
+    target = Path(os.fspath(path))
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp",
+                               dir=target.parent if str(target.parent) else ".")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            write(f)
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, target)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise

@@ -1,0 +1,366 @@
+"""Grid layout of a bond graph from its structure.
+
+The junction structure (junctions, two-ports, sub-model boxes) forms the
+*backbone*; one-port elements are *leaves*.  A spanning tree of the backbone
+is drawn as a comb:
+
+* its longest path (with sources at its ends) runs left to right on one row,
+  so a chain reads as a chain; a long path snakes back and forth in bands;
+* each path node carries its leaves directly above and below it (inertias,
+  capacitors and sources above, resistors below) and its side branches as
+  blocks hanging above or below;
+* a branch is a tidy tree: each branch node has up to two leaves beside it
+  and its children in the row below, packed side by side.
+
+Blocks of neighbouring nodes never share a column range on the same side, so
+a tree is drawn without crossing bonds; bonds that close a cycle of the
+junction structure are drawn straight.  Cells are integer ``(column, row)``
+pairs, rows growing downward; the scene sizes columns and rows to their
+contents, so labels cannot overlap.
+
+Examples
+--------
+>>> cells = grid_layout(["V", "j", "R", "L"], {"V": "Se", "j": "1", "R": "R", "L": "I"},
+...                     [("V", "j"), ("j", "R"), ("j", "L")])
+>>> cells["V"], cells["j"]          # the source in line, left of its junction
+((0, 1), (1, 1))
+>>> cells["L"], cells["R"]          # inertia above, resistor below
+((1, 0), (1, 2))
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from dataclasses import dataclass, field
+from typing import Mapping, Sequence
+
+import networkx as nx
+
+from .source import ONE_PORTS, SOURCES
+
+__all__ = ["grid_layout", "boxes_overlap", "overlapping_pairs"]
+
+Cell = tuple[int, int]
+
+#: leaves drawn above a path junction (right of a branch junction)
+_UP_KINDS = ("I", "C", "Se", "Sf", "Port")
+
+
+def grid_layout(names: Sequence[str], kinds: Mapping[str, str],
+                edges: Sequence[tuple[str, str]], *, wrap: int = 14) -> dict[str, Cell]:
+    """Grid cells for the nodes of a bond graph.
+
+    Parameters
+    ----------
+    names : sequence of str
+        Node names, in the graph's order (used to break ties).
+    kinds : mapping of str to str
+        Node kind: an element kind (``'Se'``, ``'1'``, ``'TF'``, ...) or ``'sub'``.
+    edges : sequence of (tail, head)
+        The bonds.
+    wrap : int
+        About the most columns of one row before the main path snakes back.
+
+    Returns
+    -------
+    dict
+        Node name -> ``(column, row)``; every node gets its own cell and the
+        smallest column and row are 0.
+
+    Examples
+    --------
+    >>> cells = grid_layout(list("abc"), dict(a="1", b="0", c="1"), [("a", "b"), ("b", "c")])
+    >>> [cells[n] for n in "abc"]
+    [(0, 0), (1, 0), (2, 0)]
+    """
+    if wrap < 2:
+        raise ValueError(f"wrap must be at least 2; got {wrap}")
+    order = {n: i for i, n in enumerate(names)}
+    graph = nx.MultiGraph()
+    graph.add_nodes_from(names)
+    graph.add_edges_from(edges)
+    comps = sorted(nx.connected_components(graph), key=lambda c: min(order[n] for n in c))
+    cells: dict[str, Cell] = {}
+    top = 0
+    for comp in comps:
+        local = _Comb(graph.subgraph(comp), kinds, order, edges, wrap).run()
+        c0 = min(c for c, _ in local.values())
+        r0 = min(r for _, r in local.values())
+        r1 = max(r for _, r in local.values())
+        for n, (c, r) in local.items():
+            cells[n] = (c - c0, r - r0 + top)
+        top += r1 - r0 + 2
+    return cells
+
+
+@dataclass
+class _Block:
+    """Cells of a hanging item relative to its root at (0, 0), growing downward."""
+
+    cells: dict[str, Cell] = field(default_factory=dict)
+    left: int = 0
+    right: int = 0
+    depth: int = 0
+
+    @staticmethod
+    def single(name: str) -> "_Block":
+        return _Block({name: (0, 0)})
+
+    def add(self, other: "_Block", dx: int, dy: int) -> None:
+        for n, (c, r) in other.cells.items():
+            self.cells[n] = (c + dx, r + dy)
+        self.left = min(self.left, other.left + dx)
+        self.right = max(self.right, other.right + dx)
+        self.depth = max(self.depth, other.depth + dy)
+
+
+def _arrange(items: list[_Block]) -> list[int]:
+    """Column offsets packing blocks side by side: the first at 0, then right, left, ..."""
+    if not items:
+        return []
+    offs = [0]
+    rc, lc = items[0].right + 1, items[0].left - 1
+    for k, b in enumerate(items[1:], start=1):
+        if k % 2:
+            off = rc - b.left
+            rc = off + b.right + 1
+        else:
+            off = lc - b.right
+            lc = off + b.left - 1
+        offs.append(off)
+    return offs
+
+
+class _Comb:
+    """Layout of one connected component."""
+
+    def __init__(self, graph: nx.MultiGraph, kinds: Mapping[str, str],
+                 order: Mapping[str, int], edges: Sequence[tuple[str, str]], wrap: int) -> None:
+        self.graph = graph
+        self.kinds = kinds
+        self.order = order
+        self.directed = [(t, h) for t, h in edges if t in graph and h in graph]
+        self.wrap = wrap
+        self.leaf: set[str] = set()
+        self.tree = nx.Graph()
+
+    def _sorted(self, items) -> list[str]:
+        return sorted(items, key=self.order.__getitem__)
+
+    def _leaves(self, n: str, skip: set) -> list[str]:
+        return self._sorted(k for k in self.graph[n] if k in self.leaf and k not in skip)
+
+    def run(self) -> dict[str, Cell]:
+        g = self.graph
+        nodes = self._sorted(g)
+        if len(nodes) <= 2 and all(self.kinds[n] in ONE_PORTS for n in nodes):
+            return {n: (i, 0) for i, n in enumerate(self._orient(nodes))}
+        self.leaf = {n for n in nodes if g.degree(n) <= 1 and self.kinds[n] in ONE_PORTS}
+        backbone = [n for n in nodes if n not in self.leaf]
+        simple = nx.Graph(g.subgraph(backbone))
+        self.tree = nx.Graph(nx.bfs_tree(simple, backbone[0], sort_neighbors=self._sorted))
+        self.tree.add_nodes_from(backbone)
+        ext = self.tree.copy()
+        for n in self._sorted(self.leaf):
+            if self.kinds[n] in SOURCES:
+                ext.add_edge(n, next(iter(g[n])))
+        path = self._orient(_longest_path(ext, self._sorted))
+        on_path = set(path)
+
+        # each path node: items above and below
+        sides: list[tuple[list[_Block], list[_Block]]] = []
+        for i, p in enumerate(path):
+            leaves = self._leaves(p, on_path)
+            ups = [x for x in leaves if self.kinds[x] in _UP_KINDS]
+            downs = [x for x in leaves if self.kinds[x] not in _UP_KINDS]
+            above = [_Block.single(x) for x in ups[:1]]
+            below = [_Block.single(x) for x in downs[:1]]
+            extra = [_Block.single(x) for x in ups[1:] + downs[1:]]
+            nbrs = self.tree[p] if p in self.tree else ()
+            branches = [self._branch(v, p) for v in self._sorted(nbrs) if v not in on_path]
+            for b in branches + extra:
+                # the lighter side, counting this node's and its neighbours' items
+                load_a = sum(x.right - x.left + 1 for x in above) + self._near(path, i, up=True)
+                load_b = sum(x.right - x.left + 1 for x in below) + self._near(path, i, up=False)
+                (above if load_a < load_b else below).append(b)
+            sides.append((above, below))
+        return self._place(path, sides)
+
+    def _near(self, path: list[str], i: int, *, up: bool) -> float:
+        """Half the number of leaves that the path neighbours put on one side."""
+        count = 0
+        for j in (i - 1, i + 1):
+            if 0 <= j < len(path):
+                count += sum((self.kinds[x] in _UP_KINDS) == up
+                             for x in self._leaves(path[j], set(path)))
+        return 0.5 * count
+
+    def _branch(self, v: str, parent: str) -> _Block:
+        """A side branch rooted at ``v``, growing downward (a tidy tree)."""
+        block = _Block.single(v)
+        leaves = self._leaves(v, set())
+        ups = [x for x in leaves if self.kinds[x] in _UP_KINDS]
+        downs = [x for x in leaves if self.kinds[x] not in _UP_KINDS]
+        beside = (ups + downs)[:2]
+        # inertias and capacitors to the right, resistors to the left; a second one opposite
+        first_right = self.kinds[beside[0]] in _UP_KINDS if beside else True
+        for x, right in zip(beside, (first_right, not first_right)):
+            block.add(_Block.single(x), 1 if right else -1, 0)
+        kids = [self._branch(c, v) for c in self._sorted(self.tree[v]) if c != parent]
+        kids += [_Block.single(x) for x in leaves if x not in beside]
+        for b, off in zip(kids, _arrange(kids)):
+            block.add(b, off, 1)
+        return block
+
+    def _orient(self, path: list[str]) -> list[str]:
+        """Left to right along the bonds' power direction (sources first on a tie)."""
+        pos = {n: i for i, n in enumerate(path)}
+        fwd = bwd = 0
+        for t, h in self.directed:
+            if t in pos and h in pos and abs(pos[t] - pos[h]) == 1:
+                if pos[h] > pos[t]:
+                    fwd += 1
+                else:
+                    bwd += 1
+        if bwd > fwd or (bwd == fwd and self.kinds[path[-1]] in SOURCES
+                         and self.kinds[path[0]] not in SOURCES):
+            return path[::-1]
+        return path
+
+    def _place(self, path: list[str], sides) -> dict[str, Cell]:
+        # bands: break the path where a row would pass `wrap` columns
+        # (a path that only just passes it stays on one row)
+        packed = [self._pack(a, b) for a, b in sides]
+        u = self._positions(list(range(len(path))), packed, 1)
+        if u[-1] + 1 <= self.wrap + self.wrap // 3:
+            bands = [list(range(len(path)))]
+        else:
+            bands, start = [[]], 0
+            for i in range(len(path)):
+                if bands[-1] and u[i] - start >= self.wrap:
+                    bands.append([])
+                if not bands[-1]:
+                    start = u[i]
+                bands[-1].append(i)
+        # at a turn the vertical bond needs its column free on the turning side
+        pole = _Block({})
+        for k in range(len(bands) - 1):
+            last, first = bands[k][-1], bands[k + 1][0]
+            a, b = sides[last]
+            sides[last] = (a + b, [pole])
+            a, b = sides[first]
+            sides[first] = ([pole], a + b)
+        packed = [self._pack(a, b) for a, b in sides]
+
+        cells: dict[str, Cell] = {}
+        row = 0
+        col_end = 0
+        for k, band in enumerate(bands):
+            sign = 1 if k % 2 == 0 else -1
+            u = self._positions(band, packed, sign)
+            above_depth = max((packed[i][0].depth for i in band), default=0)
+            row = row + above_depth + 1 if k else above_depth
+            for j, i in enumerate(band):
+                x = col_end + sign * u[j]
+                cells[path[i]] = (x, row)
+                for s, flip in ((0, -1), (1, 1)):
+                    for name, (c, r) in packed[i][s].cells.items():
+                        cells[name] = (x + c, row + flip * r)
+            col_end += sign * u[-1]
+            row += max((packed[i][1].depth for i in band), default=0)
+        return cells
+
+    @staticmethod
+    def _pack(above: list[_Block], below: list[_Block]) -> tuple[_Block, _Block]:
+        """Each side's items arranged about the path node, as one block."""
+        pair = []
+        for items in (above, below):
+            blk = _Block({})
+            for b, off in zip(items, _arrange(items)):
+                blk.add(b, off, 1)
+            if not items:
+                blk.left, blk.right = 1, -1   # empty: takes no column
+            pair.append(blk)
+        return pair[0], pair[1]
+
+    @staticmethod
+    def _positions(band: list[int], packed, sign: int) -> list[int]:
+        """Offsets along a band keeping each side's blocks of different nodes apart."""
+        u: list[int] = []
+        for j, i in enumerate(band):
+            pos = u[-1] + 1 if u else 0
+            for jj in range(j):
+                for s in (0, 1):
+                    a, b = packed[band[jj]][s], packed[i][s]
+                    if a.left > a.right or b.left > b.right:
+                        continue
+                    ar, bl = (a.right, b.left) if sign > 0 else (-a.left, -b.right)
+                    pos = max(pos, u[jj] + ar - bl + 1)
+            u.append(pos)
+        return u
+
+
+def _longest_path(tree: nx.Graph, sort) -> list[str]:
+    """A longest path of a tree (double breadth-first search)."""
+    nodes = sort(tree)
+    if len(nodes) == 1:
+        return nodes
+
+    def farthest(src: str) -> tuple[str, dict]:
+        parent = {src: None}
+        dist = {src: 0}
+        queue = deque([src])
+        while queue:
+            u = queue.popleft()
+            for v in sort(tree[u]):
+                if v not in dist:
+                    dist[v] = dist[u] + 1
+                    parent[v] = u
+                    queue.append(v)
+        far = max(sort(dist), key=lambda n: dist[n])
+        return far, parent
+
+    a, _ = farthest(nodes[0])
+    b, parent = farthest(a)
+    path = [b]
+    while parent[path[-1]] is not None:
+        path.append(parent[path[-1]])
+    return path
+
+
+
+# ---------------------------------------------------------------- overlap checks
+Box = tuple[float, float, float, float]  # x, y (top-left), width, height
+
+
+def boxes_overlap(a: Box, b: Box, *, margin: float = 0.0) -> bool:
+    """Whether two ``(x, y, width, height)`` boxes overlap (touching is not overlap).
+
+    Examples
+    --------
+    >>> boxes_overlap((0, 0, 10, 10), (5, 5, 10, 10)), boxes_overlap((0, 0, 10, 10), (10, 0, 5, 5))
+    (True, False)
+    """
+    ax, ay, aw, ah = a
+    bx, by, bw, bh = b
+    return (ax < bx + bw + margin and bx < ax + aw + margin
+            and ay < by + bh + margin and by < ay + ah + margin)
+
+
+def overlapping_pairs(boxes: Mapping[str, Box], *, margin: float = 0.0) -> list[tuple[str, str]]:
+    """Pairs of names whose boxes overlap.
+
+    Examples
+    --------
+    >>> overlapping_pairs({"a": (0, 0, 4, 4), "b": (3, 3, 4, 4), "c": (20, 0, 1, 1)})
+    [('a', 'b')]
+    """
+    items = sorted(boxes.items(), key=lambda kv: kv[1][0])
+    out = []
+    for i, (na, a) in enumerate(items):
+        for nb, b in items[i + 1:]:
+            if b[0] >= a[0] + a[2] + margin:
+                break
+            if boxes_overlap(a, b, margin=margin):
+                out.append((na, nb))
+    return out

@@ -1,0 +1,451 @@
+"""Geometry of a drawing: label boxes, bond lines, half-arrows, causal strokes.
+
+:func:`build_scene` places a :class:`~bondgraph.drawing.source.Diagram` with
+:func:`~bondgraph.drawing.layout.grid_layout` and computes every shape in
+pixels (``y`` downward).  The SVG writer and the matplotlib renderer draw the
+same :class:`Scene`, so both outputs agree.
+
+Conventions
+-----------
+* A bond runs between the label boxes of its ends (clipped to the boxes);
+  one that would cross another label (a loop of the junction structure)
+  bends round it as a quadratic curve.
+* The half-arrow is a single barb at the head, on the left of the direction
+  of positive power (``⇀`` for a bond pointing right).
+* The causal stroke is a short line across the bond at the end of the
+  element that receives effort (``stroke_end``).
+* The bond number sits beside the middle of the bond, opposite the barb.
+
+Examples
+--------
+>>> import bondgraph as bg
+>>> from bondgraph.drawing.source import diagram
+>>> g = bg.BondGraph("rl")
+>>> V, j = bg.Se("V"), bg.One("j")
+>>> g.add(V, j, bg.R("R"), bg.I("L"))
+>>> for t, h in [(V, j), (j, "R"), (j, "L")]: _ = g.connect(t, h)
+>>> sc = build_scene(diagram(g))
+>>> b = sc.bonds[0]
+>>> b.stroke_end, b.stroke is not None
+('j', True)
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Optional
+
+from .layout import Box, grid_layout, overlapping_pairs
+from .source import Diagram, JUNCTIONS
+
+__all__ = ["Label", "BondShape", "Scene", "build_scene", "text_width", "label_font",
+           "FONT", "NOTE_FONT", "NUMBER_FONT", "COLORS"]
+
+FONT = 14.0          # label font size, px
+NOTE_FONT = 9.0      # junction names, port names
+NUMBER_FONT = 10.0   # bond numbers
+TITLE_FONT = 12.0
+FONT_FAMILY = "DejaVu Sans"
+
+PAD = 3.0            # label box padding
+HGAP = 46.0          # free space between columns
+VGAP = 38.0          # free space between rows
+EMPTY = 20.0         # size of an empty column or row
+MARGIN = 16.0
+BARB = (9.0, 5.5)    # half-arrow: length back along the bond, offset to the side
+STROKE = 7.0         # half length of a causal stroke
+NUMBER_OFFSET = 8.0
+
+COLORS = {
+    "ink": "#222222",
+    "number": "#555555",
+    "derivative": "#d62728",
+    "derivative_fill": "#fde0e0",
+    "loop": "#ff7f0e",
+    "sub": "#1f5f9f",
+    "sub_fill": "#eef4fb",
+    "title": "#777777",
+}
+
+
+@lru_cache(maxsize=4096)
+def text_width(text: str, size: float, bold: bool = False) -> float:
+    """Width in px of ``text`` in DejaVu Sans at ``size`` px (matplotlib's metrics).
+
+    Examples
+    --------
+    >>> text_width("I:La", 14.0) > text_width("1", 14.0) > 0
+    True
+    """
+    if not text:
+        return 0.0
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.textpath import TextToPath
+
+    prop = FontProperties(family=FONT_FAMILY, size=size, weight="bold" if bold else "normal")
+    w, _, _ = TextToPath().get_text_width_height_descent(text, prop, ismath=False)
+    return float(w)
+
+
+def label_font(kind: str) -> tuple[float, bool]:
+    """Font size (px) and boldness of a node's main text."""
+    if kind in JUNCTIONS:
+        return FONT + 1, True
+    return FONT, kind == "sub"
+
+
+Point = tuple[float, float]
+Segment = tuple[Point, Point]
+
+
+@dataclass(frozen=True)
+class Label:
+    """A node's text and box, in px.
+
+    ``x, y`` is the centre of the main text; ``box`` is ``(x, y, w, h)`` with
+    its top-left corner and covers the main text and the note.
+    """
+
+    name: str
+    kind: str
+    text: str
+    note: str
+    x: float
+    y: float
+    text_width: float
+    box: Box
+    derivative: bool = False
+    arbitrary: bool = False
+
+    @property
+    def note_at(self) -> Point:
+        """Left end and vertical centre of the note (junction name)."""
+        return self.x + self.text_width / 2 + 1.0, self.y + FONT * 0.32
+
+    @property
+    def color(self) -> str:
+        if self.derivative:
+            return COLORS["derivative"]
+        if self.kind == "sub":
+            return COLORS["sub"]
+        if self.arbitrary:
+            return COLORS["loop"]
+        return COLORS["ink"]
+
+
+@dataclass(frozen=True)
+class BondShape:
+    """A bond's shapes, in px.
+
+    Attributes
+    ----------
+    start, end : point
+        The line from the tail box to the head box.
+    barb : point
+        Free end of the half-arrow (its other end is ``end``).
+    stroke : segment or None
+        The causal stroke, across the line at ``stroke_end``.
+    number_at : point
+        Centre of the bond number.
+    ports : tuple of (text, point)
+        Port names of sub-model ends.
+    control : point or None
+        Control point of a bond bent round a label (a quadratic Bezier curve
+        from ``start`` to ``end``); None for a straight bond.
+    """
+
+    number: int
+    tail: str
+    head: str
+    start: Point
+    end: Point
+    barb: Point
+    stroke: Optional[Segment]
+    stroke_end: Optional[str]
+    number_at: Point
+    loop: bool = False
+    ports: tuple[tuple[str, Point], ...] = ()
+    control: Optional[Point] = None
+
+    @property
+    def color(self) -> str:
+        return COLORS["loop"] if self.loop else COLORS["ink"]
+
+
+@dataclass(frozen=True)
+class Scene:
+    """Everything to draw, in px (``y`` downward)."""
+
+    name: str
+    width: float
+    height: float
+    labels: tuple[Label, ...]
+    bonds: tuple[BondShape, ...]
+    legend: tuple[tuple[str, str], ...]      # (kind, text); kind 'derivative' or 'loop'
+    legend_at: Point
+    title: str
+    causal: bool
+
+    def label(self, name: str) -> Label:
+        """The label of node ``name``."""
+        for lb in self.labels:
+            if lb.name == name:
+                return lb
+        raise KeyError(name)
+
+    def overlaps(self) -> list[tuple[str, str]]:
+        """Pairs of labels whose boxes overlap (empty for a good layout)."""
+        return overlapping_pairs({lb.name: lb.box for lb in self.labels})
+
+
+def _label_size(text: str, note: str, kind: str) -> tuple[float, float, float, float]:
+    """(text width, left extent, right extent, height) about the main text's centre."""
+    size, bold = label_font(kind)
+    tw = text_width(text, size, bold)
+    if kind == "sub":
+        half = tw / 2 + PAD + 7
+        return tw, half, half, FONT + 2 * PAD + 10
+    nw = text_width(note, NOTE_FONT)
+    left = tw / 2 + PAD
+    right = left + (nw + 1 if note else 0)
+    h = FONT + 2 * PAD + (NOTE_FONT * 0.45 if note else 0)
+    return tw, left, right, h
+
+
+def build_scene(diag: Diagram, *, wrap: int = 14, title: bool = True) -> Scene:
+    """Lay out a diagram and compute every shape.
+
+    Parameters
+    ----------
+    diag : Diagram
+    wrap : int
+        Longest run of the main path on one row (see :func:`grid_layout`).
+    title : bool
+        Reserve a line at the top for the graph's name.
+
+    Returns
+    -------
+    Scene
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> from bondgraph.drawing.source import diagram
+    >>> g = bg.BondGraph("r"); g.add(bg.Se("V"), bg.R("R")); _ = g.connect("V", "R")
+    >>> sc = build_scene(diagram(g))
+    >>> [lb.text for lb in sc.labels], sc.overlaps()
+    (['Se:V', 'R:R'], [])
+    """
+    names = [n.name for n in diag.nodes]
+    kinds = {n.name: n.kind for n in diag.nodes}
+    cells = grid_layout(names, kinds, [(e.tail, e.head) for e in diag.edges], wrap=wrap)
+    sizes = {n.name: _label_size(n.text, n.note, n.kind) for n in diag.nodes}
+
+    ncol = max(c for c, _ in cells.values()) + 1
+    nrow = max(r for _, r in cells.values()) + 1
+    col_w = [EMPTY] * ncol
+    row_h = [EMPTY] * nrow
+    room = _port_room(diag)
+    for name, (c, r) in cells.items():
+        _, left, right, h = sizes[name]
+        col_w[c] = max(col_w[c], 2 * max(left, right) + HGAP + 2 * room.get(name, 0.0))
+        row_h[r] = max(row_h[r], h + VGAP)
+    top = MARGIN + (TITLE_FONT + 8 if title else 0)
+    # parallel bonds between the same two nodes are spread apart
+    groups: dict[frozenset, list[int]] = {}
+    for k, e in enumerate(diag.edges):
+        groups.setdefault(frozenset((e.tail, e.head)), []).append(k)
+    shift = {}
+    for ks in groups.values():
+        for i, k in enumerate(ks):
+            shift[k] = (i - (len(ks) - 1) / 2) * 12.0
+
+    # place everything; bonds bent round labels may stick out: then shift and grow
+    dx = dy = grow_x = grow_y = 0.0
+    for _ in range(2):
+        xs = _centres(col_w, MARGIN + dx)
+        ys = _centres(row_h, top - VGAP / 2 + 4 + dy)
+        labels = []
+        for n in diag.nodes:
+            c, r = cells[n.name]
+            tw, left, right, h = sizes[n.name]
+            cx, cy = xs[c], ys[r]
+            # the main text is centred on its cell; a junction's name hangs to its right
+            box = (cx - left, cy - h / 2, left + right, h)
+            ty = cy - (NOTE_FONT * 0.45 / 2 if n.note else 0)
+            labels.append(Label(n.name, n.kind, n.text, n.note, cx, ty, tw, box,
+                                n.derivative, n.arbitrary))
+        by_name = {lb.name: lb for lb in labels}
+        avoid = [lb.box for lb in labels]
+        bonds = [_bond_shape(e, by_name[e.tail], by_name[e.head], shift[k], avoid)
+                 for k, e in enumerate(diag.edges)]
+        width = MARGIN + sum(col_w) + MARGIN - HGAP / 2 + dx + grow_x
+        height = top + sum(row_h) - VGAP / 2 + 4 + dy + grow_y
+        x0, y0, x1, y1 = _extent(bonds)
+        if dx or dy or grow_x or grow_y:
+            break
+        dx, dy = max(0.0, MARGIN / 2 - x0), max(0.0, top - 4 - y0)
+        grow_x = max(0.0, x1 + dx - (width - MARGIN / 2))
+        grow_y = max(0.0, y1 + dy - (height - 4))
+        if not (dx or dy or grow_x or grow_y):
+            break
+    legend = []
+    if any(lb.derivative for lb in labels):
+        legend.append(("derivative", "storage in derivative causality"))
+    if any(b.loop for b in bonds):
+        legend.append(("loop", "algebraic loop (arbitrary causality)"))
+    legend_at = (MARGIN, height)
+    if legend:
+        height += 18 * len(legend) + 6
+        lw = 40 + max(text_width(t, NOTE_FONT + 2) for _, t in legend)
+        width = max(width, MARGIN + lw + MARGIN)
+    height += MARGIN / 2
+    ttl = diag.name if title else ""
+    if ttl:
+        width = max(width, 2 * MARGIN + text_width(ttl, TITLE_FONT))
+    return Scene(diag.name, math.ceil(width), math.ceil(height), tuple(labels),
+                 tuple(bonds), tuple(legend), legend_at, ttl, diag.causal)
+
+
+def _extent(bonds) -> tuple[float, float, float, float]:
+    """Bounding box of the bent bonds and of all bond numbers."""
+    xs, ys = [], []
+    for b in bonds:
+        pts = [b.number_at]
+        if b.control is not None:
+            pts += [_bezier(b.start, b.control, b.end, k / 20) for k in range(21)]
+        for x, y in pts:
+            xs.append(x)
+            ys.append(y)
+    if not xs:
+        return math.inf, math.inf, -math.inf, -math.inf
+    return min(xs) - 8, min(ys) - 8, max(xs) + 8, max(ys) + 8
+
+
+def _port_room(diag: Diagram) -> dict[str, float]:
+    """Extra width beside sub-model boxes for the port names on their bonds."""
+    room: dict[str, float] = {}
+    for e in diag.edges:
+        for node, port in ((e.tail, e.tail_port), (e.head, e.head_port)):
+            if port:
+                room[node] = max(room.get(node, 0.0), text_width(port, NOTE_FONT) + 6)
+    return room
+
+
+def _centres(sizes: list[float], start: float) -> list[float]:
+    out, x = [], start
+    for s in sizes:
+        out.append(x + s / 2)
+        x += s
+    return out
+
+
+def _clip(cx: float, cy: float, box: Box, ux: float, uy: float) -> float:
+    """Distance from (cx, cy) along unit (ux, uy) to the edge of ``box`` (+2 px)."""
+    bx, by, bw, bh = box
+    tx = ((bx + bw - cx) if ux > 0 else (cx - bx)) / abs(ux) if abs(ux) > 1e-9 else math.inf
+    ty = ((by + bh - cy) if uy > 0 else (cy - by)) / abs(uy) if abs(uy) > 1e-9 else math.inf
+    return min(tx, ty) + 2.0
+
+
+def _anchor(lb: Label) -> Point:
+    """Where bonds aim: the main text's centre across, the box's centre down."""
+    return lb.x, lb.box[1] + lb.box[3] / 2
+
+
+def _unit(dx: float, dy: float) -> Point:
+    L = math.hypot(dx, dy) or 1.0
+    return dx / L, dy / L
+
+
+def _bezier(p0: Point, c: Optional[Point], p1: Point, t: float) -> Point:
+    if c is None:
+        return p0[0] + t * (p1[0] - p0[0]), p0[1] + t * (p1[1] - p0[1])
+    a, b, d = (1 - t) ** 2, 2 * t * (1 - t), t * t
+    return a * p0[0] + b * c[0] + d * p1[0], a * p0[1] + b * c[1] + d * p1[1]
+
+
+def _crossed(p0: Point, c: Optional[Point], p1: Point, boxes: list[Box]) -> int:
+    """How many of ``boxes`` the line (or curve) from p0 to p1 passes through."""
+    pts = [_bezier(p0, c, p1, t) for t in [k / 40 for k in range(1, 40)]]
+    return sum(any(b[0] - 2 < x < b[0] + b[2] + 2 and b[1] - 2 < y < b[1] + b[3] + 2
+                   for x, y in pts) for b in boxes)
+
+
+def _bond_shape(e, tail, head, shift: float, avoid: list[Box]) -> BondShape:
+    (ax, ay), (bx, by) = _anchor(tail), _anchor(head)
+    ux, uy = _unit(bx - ax, by - ay)
+    nx_, ny_ = uy, -ux                      # left of the direction of travel (y down)
+    ax, ay, bx, by = ax + shift * nx_, ay + shift * ny_, bx + shift * nx_, by + shift * ny_
+    # a bond that would run through another label bends round it (a quadratic curve)
+    others = [b for b in avoid if b is not tail.box and b is not head.box]
+    ctrl: Optional[Point] = None
+    if _crossed((ax, ay), None, (bx, by), others):
+        L = math.hypot(bx - ax, by - ay)
+        mid = ((ax + bx) / 2, (ay + by) / 2)
+        best = None
+        for k in (0.25, -0.25, 0.4, -0.4, 0.6, -0.6, 0.8, -0.8):
+            c = (mid[0] + k * L * nx_, mid[1] + k * L * ny_)
+            hits = _crossed((ax, ay), c, (bx, by), others)
+            if best is None or hits < best[0]:
+                best = (hits, c)
+            if hits == 0:
+                break
+        if best is not None and best[0] < _crossed((ax, ay), None, (bx, by), others):
+            ctrl = best[1]
+    u0 = _unit(ctrl[0] - ax, ctrl[1] - ay) if ctrl else (ux, uy)
+    u1 = _unit(bx - ctrl[0], by - ctrl[1]) if ctrl else (ux, uy)
+    d0 = _clip(ax, ay, tail.box, *u0)
+    d1 = _clip(bx, by, head.box, -u1[0], -u1[1])
+    start = (ax + d0 * u0[0], ay + d0 * u0[1])
+    end = (bx - d1 * u1[0], by - d1 * u1[1])
+    n0, n1 = (u0[1], -u0[0]), (u1[1], -u1[0])
+    blen, bside = BARB
+    barb = (end[0] - blen * u1[0] + bside * n1[0], end[1] - blen * u1[1] + bside * n1[1])
+    stroke = None
+    if e.stroke_end is not None:
+        (px, py), n = (end, n1) if e.stroke_at_head else (start, n0)
+        stroke = ((px - STROKE * n[0], py - STROKE * n[1]),
+                  (px + STROKE * n[0], py + STROKE * n[1]))
+    number_at = _number_position(str(e.number), start, ctrl, end, avoid)
+    ports = []
+    for port, pt, u, sgn in ((e.tail_port, start, u0, 1.0), (e.head_port, end, u1, -1.0)):
+        if port:
+            w = text_width(port, NOTE_FONT)
+            off = 6 + w / 2 * abs(u[0]) + NOTE_FONT / 2 * abs(u[1])
+            n = (u[1], -u[0])
+            ports.append((port, (pt[0] + sgn * u[0] * off + n[0] * 9,
+                                 pt[1] + sgn * u[1] * off + n[1] * 9)))
+    tail_end = e.tail if not e.tail_port else f"{e.tail}.{e.tail_port}"
+    head_end = e.head if not e.head_port else f"{e.head}.{e.head_port}"
+    return BondShape(e.number, tail_end, head_end, start, end, barb, stroke, e.stroke_end,
+                     number_at, e.loop, tuple(ports), ctrl)
+
+
+def _number_position(text: str, start: Point, ctrl: Optional[Point], end: Point,
+                     avoid: list[Box]) -> Point:
+    """Beside the bond, opposite the barb; moved along it or across if on a label."""
+    w = text_width(text, NUMBER_FONT)
+    h = NUMBER_FONT
+    first = None
+    for t in (0.5, 0.35, 0.65):
+        px, py = _bezier(start, ctrl, end, t)
+        q = _bezier(start, ctrl, end, t + 0.01)
+        ux, uy = _unit(q[0] - px, q[1] - py)
+        n = (uy, -ux)
+        # distance from the line to the centre of the number's box, across the bond
+        across = NUMBER_OFFSET + abs(n[0]) * w / 2 + abs(n[1]) * h / 2
+        for side in (-1.0, 1.0):
+            mx, my = px + side * across * n[0], py + side * across * n[1]
+            box = (mx - w / 2, my - h / 2, w, h)
+            if first is None:
+                first = (mx, my)
+            if not any(_hit(box, b) for b in avoid):
+                return mx, my
+    return first  # type: ignore[return-value]
+
+
+def _hit(a: Box, b: Box) -> bool:
+    return a[0] < b[0] + b[2] and b[0] < a[0] + a[2] and a[1] < b[1] + b[3] and b[1] < a[1] + a[3]

@@ -1,0 +1,328 @@
+"""What to draw: the nodes and bonds of a bond graph, with causality marks.
+
+:func:`diagram` turns a :class:`~bondgraph.BondGraph`, an
+:class:`~bondgraph.AugmentedBondGraph`, a :class:`~bondgraph.FlatGraph` or a
+derived :class:`~bondgraph.Model` into a :class:`Diagram`: a plain, immutable
+list of nodes and edges that the layout and the renderers read.  Nothing here
+knows about coordinates.
+
+Examples
+--------
+>>> import bondgraph as bg
+>>> g = bg.BondGraph("rl")
+>>> V, j = bg.Se("V"), bg.One("j")
+>>> g.add(V, j, bg.R("R"), bg.I("L"))
+>>> for t, h in [(V, j), (j, "R"), (j, "L")]: _ = g.connect(t, h)
+>>> d = diagram(g)
+>>> [n.text for n in d.nodes]
+['Se:V', '1', 'R:R', 'I:L']
+>>> d.edges[0].stroke_end     # Se imposes effort: the stroke is at the junction
+'j'
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional, Union
+
+from ..causality import AugmentedBondGraph, assign_causality
+from ..errors import BondGraphError
+from ..flatten import FlatGraph, flatten
+from ..graph import BondGraph
+from ..model import Model
+
+__all__ = ["DrawingError", "Node", "Edge", "Diagram", "diagram", "Drawable"]
+
+Drawable = Union[BondGraph, AugmentedBondGraph, FlatGraph, Model]
+
+#: element kinds drawn as ``KIND:name``; junctions are drawn as ``0`` / ``1``
+JUNCTIONS = ("0", "1")
+ONE_PORTS = ("Se", "Sf", "I", "C", "R", "Port")
+SOURCES = ("Se", "Sf", "Port")
+
+
+class DrawingError(BondGraphError, ValueError):
+    """A drawing was asked for with options that do not fit the object or file."""
+
+
+@dataclass(frozen=True)
+class Node:
+    """One label of the drawing.
+
+    Attributes
+    ----------
+    name : str
+        Unique name: the element's path (``motor.Ra``) or the sub-model's name.
+    kind : str
+        Element kind (``'Se'``, ``'I'``, ``'0'``, ...), or ``'sub'`` for a
+        sub-model drawn as one box.
+    text : str
+        The main text: ``'I:La'``, ``'1'``, ``'motor'``.
+    note : str
+        Small text next to the main one: a junction's name ('' otherwise).
+    derivative : bool
+        A storage element in derivative causality (for a sub-model box: one
+        inside it).
+    arbitrary : bool
+        An R element whose causality was chosen arbitrarily (algebraic loop).
+    """
+
+    name: str
+    kind: str
+    text: str
+    note: str = ""
+    derivative: bool = False
+    arbitrary: bool = False
+
+
+@dataclass(frozen=True)
+class Edge:
+    """One bond of the drawing.
+
+    Attributes
+    ----------
+    number : int
+        The bond number shown (flattened numbering, or the builder's own
+        numbering when sub-models are drawn as boxes).
+    tail, head : str
+        Names of the nodes at the two ends (the head carries the half-arrow).
+    tail_port, head_port : str
+        Port name where an end is a sub-model box ('' otherwise).
+    stroke_end : str or None
+        The endpoint name at the causal stroke end (an element path, or
+        ``sub.port`` for a sub-model box); None without causality.
+    loop : bool
+        The bond belongs to an algebraic loop.
+    """
+
+    number: int
+    tail: str
+    head: str
+    tail_port: str = ""
+    head_port: str = ""
+    stroke_end: Optional[str] = None
+    loop: bool = False
+
+    @property
+    def stroke_at_head(self) -> Optional[bool]:
+        """True / False for a stroke at the head / tail end, None without causality."""
+        if self.stroke_end is None:
+            return None
+        return self.stroke_end == _end_name(self.head, self.head_port)
+
+
+def _end_name(node: str, port: str) -> str:
+    return f"{node}.{port}" if port else node
+
+
+@dataclass(frozen=True)
+class Diagram:
+    """Nodes and edges to lay out and draw (immutable).
+
+    Attributes
+    ----------
+    name : str
+    nodes : tuple of Node
+        In the order of the graph's elements.
+    edges : tuple of Edge
+        In bond-number order.
+    causal : bool
+        Whether the edges carry causal strokes.
+    """
+
+    name: str
+    nodes: tuple[Node, ...]
+    edges: tuple[Edge, ...]
+    causal: bool = False
+
+    def node(self, name: str) -> Node:
+        """The node called ``name``."""
+        for n in self.nodes:
+            if n.name == name:
+                return n
+        raise KeyError(name)
+
+
+def diagram(obj: Drawable, *, causality: bool = True, expand: bool = True) -> Diagram:
+    """The nodes and bonds to draw for a bond graph or a derived model.
+
+    Parameters
+    ----------
+    obj : BondGraph, AugmentedBondGraph, FlatGraph or Model
+        A builder graph (causality is assigned if asked), a causal graph, a
+        flattened graph, or a derived model (its ``augmented`` graph is drawn).
+    causality : bool
+        Show causal strokes (assigning causality when ``obj`` has none).
+    expand : bool
+        Draw sub-models expanded (hierarchical names); with False, each
+        sub-model of a :class:`BondGraph` is one box and its ports are bond ends.
+
+    Returns
+    -------
+    Diagram
+
+    Raises
+    ------
+    DrawingError
+        For ``expand=False`` on an object that is already flattened.
+    TypeError
+        For an object that is not a bond graph or a model.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("r"); g.add(bg.Se("V"), bg.R("R")); _ = g.connect("V", "R")
+    >>> d = diagram(g, causality=False)
+    >>> d.causal, d.edges[0].stroke_end is None
+    (False, True)
+    """
+    if isinstance(obj, Model):
+        obj = obj.augmented
+    if isinstance(obj, BondGraph):
+        if not expand:
+            return _boxed(obj, causality)
+        flat = flatten(obj)
+        return _from_flat(flat, assign_causality(flat) if causality else None)
+    if isinstance(obj, (AugmentedBondGraph, FlatGraph)):
+        if not expand:
+            raise DrawingError(
+                f"expand=False needs the BondGraph builder: a {type(obj).__name__} is "
+                "already flattened, so its sub-models cannot be drawn as boxes; pass the "
+                "BondGraph instead, or use expand=True"
+            )
+        if isinstance(obj, FlatGraph):
+            return _from_flat(obj, assign_causality(obj) if causality else None)
+        return _from_flat(obj.flat, obj if causality else None)
+    raise TypeError(
+        "draw() takes a BondGraph, AugmentedBondGraph, FlatGraph or Model; got "
+        f"{type(obj).__name__} {obj!r}"
+    )
+
+
+def _node(name: str, kind: str, label: str, aug: Optional[AugmentedBondGraph]) -> Node:
+    if kind in JUNCTIONS:
+        text, note = kind, name
+    else:
+        text, note = label, ""
+    return Node(
+        name=name, kind=kind, text=text, note=note,
+        derivative=aug is not None and name in aug.derivative,
+        arbitrary=aug is not None and name in aug.arbitrary,
+    )
+
+
+def _from_flat(flat: FlatGraph, aug: Optional[AugmentedBondGraph]) -> Diagram:
+    nodes = tuple(_node(el.name, el.kind, el.label(), aug) for el in flat.elements)
+    in_loop = set()
+    if aug is not None:
+        for lp in aug.loops:
+            in_loop.update(lp)
+    edges = tuple(
+        Edge(b.number, b.tail, b.head,
+             stroke_end=aug.bond(b.number).stroke if aug is not None else None,
+             loop=b.number in in_loop)
+        for b in flat.bonds
+    )
+    return Diagram(flat.name, nodes, edges, causal=aug is not None)
+
+
+# ---------------------------------------------------------------- sub-model boxes
+def _boxed(graph: BondGraph, causality: bool) -> Diagram:
+    """Top-level elements plus one box per sub-model; builder bond numbers."""
+    aug = None
+    flat_number: dict[int, int] = {}
+    if causality:
+        aug = assign_causality(graph)
+        flat_number = _top_bonds_in_flat(graph)
+    subs = {s.name for s in graph.submodels}
+    nodes = []
+    for kind, item in _element_then_sub_order(graph):
+        if kind == "sub":
+            inside = aug is not None and any(n.startswith(item + ".") for n in aug.derivative)
+            nodes.append(Node(item, "sub", item, derivative=inside))
+        else:
+            el = graph[item]
+            nodes.append(_node(el.name, el.kind, el.label(), aug))
+    in_loop = set()
+    if aug is not None:
+        for lp in aug.loops:
+            in_loop.update(lp)
+    edges = []
+    for b in graph.bonds:
+        tail, tport = _split(b.tail, subs)
+        head, hport = _split(b.head, subs)
+        stroke, loop = None, False
+        if aug is not None and b.number in flat_number:
+            fb = aug.bond(flat_number[b.number])
+            loop = fb.number in in_loop
+            stroke = _stroke_on_top_bond(b.tail, b.head, fb)
+        edges.append(Edge(b.number, tail, head, tport, hport, stroke, loop))
+    return Diagram(graph.name, tuple(nodes), tuple(edges), causal=aug is not None)
+
+
+def _element_then_sub_order(graph: BondGraph):
+    for el in graph.elements:
+        yield "el", el.name
+    for kind, item in graph._order:
+        if kind == "sub":
+            yield "sub", item
+
+
+def _split(end: str, subs: set) -> tuple[str, str]:
+    sub, dot, port = end.partition(".")
+    if dot and sub in subs:
+        return sub, port
+    return end, ""
+
+
+def _stroke_on_top_bond(tail: str, head: str, fb) -> str:
+    """The end of a top-level bond that carries the stroke of its flattened bond.
+
+    Joining a port keeps the power direction, so the flattened bond's tail
+    lies on the builder bond's tail side and its head on the head side.
+    """
+    return tail if fb.stroke == fb.tail else head
+
+
+def _top_bonds_in_flat(graph: BondGraph) -> dict[int, int]:
+    """Builder bond number -> flattened bond number, for the top-level bonds.
+
+    Follows :func:`bondgraph.flatten`: bonds listed in creation order with a
+    sub-model's bonds in its place, then each port joins its inner and outer
+    bond into the earlier one (or becomes a 0-junction keeping both).
+    """
+    raw: list[list] = []  # [tail, head, alive, top-level number or None]
+    ports: list[str] = []
+
+    def collect(g: BondGraph, prefix: str, top: bool) -> None:
+        ports.extend(prefix + p for p in g.ports)
+        for kind, item in g._order:
+            if kind == "sub":
+                collect(g._subgraphs[item], prefix + item + ".", False)
+            else:
+                raw.append([prefix + item.tail, prefix + item.head, True,
+                            item.number if top else None])
+
+    collect(graph, "", True)
+    for path in ports:
+        ks = sorted(k for k, (t, h, alive, _) in enumerate(raw) if alive and path in (t, h))
+        if len(ks) != 2:
+            continue
+        a, b = ks
+        ta, ha, _, na = raw[a]
+        tb, hb, _, nb = raw[b]
+        keep = na if na is not None else nb
+        if ha == path and tb == path:
+            raw[a] = [ta, hb, True, keep]
+            raw[b][2] = False
+        elif ta == path and hb == path:
+            raw[a] = [tb, ha, True, keep]
+            raw[b][2] = False
+    out: dict[int, int] = {}
+    number = 0
+    for _, _, alive, top in raw:
+        if alive:
+            number += 1
+            if top is not None:
+                out[top] = number
+    return out
