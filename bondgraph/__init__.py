@@ -31,6 +31,12 @@ from .graph import Bond, BondGraph
 from .model import Model
 from .signals import Signal, displacement, e, effort, f, flow, momentum, p, q, t
 from .statespace import SymbolicStateSpace
+from .modelfile import ModelDefinition, ModelFileError, load_model
+from .numeric import (BatchStateSpace, NumericModel, NumericStateSpace, ParameterValueError,
+                      SimulationResult, compile_plant, numeric_plant, simulate,
+                      to_nonlinear_iosys)
+from .export import ExportError
+from .drawing import draw
 
 __version__ = "0.1.0"
 
@@ -43,4 +49,8 @@ __all__ = [
     "BondGraphError", "ModelStructureError", "DuplicateNameError", "UnknownElementError",
     "PortError", "ParameterError", "LawError", "CausalityError", "CausalityConflictError",
     "AlgebraicLoopError", "OutputError", "NonlinearModelError",
+    "ModelDefinition", "ModelFileError", "load_model",
+    "compile_plant", "numeric_plant", "NumericModel", "NumericStateSpace", "BatchStateSpace",
+    "simulate", "SimulationResult", "to_nonlinear_iosys", "ParameterValueError",
+    "ExportError", "draw",
 ]

@@ -130,6 +130,50 @@ class Model:
         D = _jacobian(self.output_exprs, u, x, self, "output", "y", check_offset=False)
         return SymbolicStateSpace(A, B, C, D, self.state_names, self.input_names, self.output_names)
 
+    def transfer_function(self, input=None, output=None, *, descriptor: bool | None = None,
+                          **options):
+        """Symbolic ``G(s)`` from one input to one output (see :mod:`bondgraph.tf`).
+
+        Models with derivative causality use their descriptor form
+        ``E x' = A x + B u`` (``det(sE - A)`` and its minors; ``E`` is never
+        inverted) unless ``descriptor=False``.  ``options`` go to
+        :func:`bondgraph.tf.transfer_function` (``normalize=``, ``cancel=``, ...).
+
+        Examples
+        --------
+        >>> import bondgraph as bg
+        >>> g = bg.BondGraph("rc")
+        >>> V, n = bg.Se("V"), bg.One("i")
+        >>> g.add(V, n, bg.R("R"), bg.C("C"))
+        >>> _ = g.connect(V, n); _ = g.connect(n, "R"); _ = g.connect(n, "C")
+        >>> model = bg.derive(g, outputs={"vC": bg.effort("C")})
+        >>> model.transfer_function("V", "vC", normalize="leading-one-denominator").expr
+        1/(C*R*s + 1)
+        """
+        from .tf import transfer_function
+
+        use_e = self.descriptor is not None if descriptor is None else descriptor
+        ss = self.descriptor_form() if use_e else self.state_space()
+        return transfer_function(ss.A, ss.B, ss.C, ss.D, E=ss.E if use_e else None, input=input,
+                                 output=output, input_names=ss.input_names,
+                                 output_names=ss.output_names, **options)
+
+    def transfer_matrix(self, **options):
+        """All input/output transfer functions over one denominator (see :mod:`bondgraph.tf`)."""
+        from .tf import transfer_matrix
+
+        use_e = self.descriptor is not None
+        ss = self.descriptor_form() if use_e else self.state_space()
+        return transfer_matrix(ss.A, ss.B, ss.C, ss.D, E=ss.E if use_e else None,
+                               input_names=ss.input_names, output_names=ss.output_names, **options)
+
+    def _repr_latex_(self) -> str:
+        return _equations_latex(self)
+
+    def _repr_svg_(self):
+        from .drawing import repr_svg
+        return repr_svg(self.augmented)
+
     def linearize(self, x0=None, u0=None, *, equilibrium: bool = True) -> SymbolicStateSpace:
         """Linearize about an operating point ``(x0, u0)`` by symbolic Jacobians.
 
@@ -205,6 +249,14 @@ class Model:
             raise NonlinearModelError(f"model {self.name!r}: E depends on the states")
         return SymbolicStateSpace(A, B, C, D, self.state_names, self.input_names,
                                   self.output_names, E)
+
+
+def _equations_latex(model: Model) -> str:
+    r"""``\dot x = f`` and ``y = g`` lines as a LaTeX aligned block."""
+    rows = [r"\dot{%s} &= %s" % (sympy.latex(s), sympy.latex(r)) for s, r in zip(model.states, model.rhs)]
+    rows += [r"%s &= %s" % (sympy.latex(sympy.Symbol(n)), sympy.latex(g))
+             for n, g in zip(model.output_names, model.output_exprs)]
+    return r"$$\begin{aligned}" + r" \\ ".join(rows) + r"\end{aligned}$$"
 
 
 def _point(model: Model, values, symbols, what: str) -> dict:

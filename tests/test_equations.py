@@ -325,3 +325,14 @@ def test_floating_node_junction_structure_is_reported():
         connect_all(g, [(p, f"i{i}"), (f"i{i}", q), (f"i{i}", f"R{i}" if i != 5 else "C5")])
     with pytest.raises(bg.CausalityConflictError, match="remove the ground node"):
         bg.assign_causality(g)
+
+
+def test_geared_inertias_transfer_function_from_descriptor_form():
+    g = bg.BondGraph("gear")
+    T, w1, w2 = bg.Se("T"), bg.One("w1"), bg.One("w2")
+    g.add(T, w1, w2, bg.I("J1"), bg.R("b1"), bg.TF("n"), bg.I("J2"), bg.R("b2"))
+    connect_all(g, [(T, w1), (w1, "J1"), (w1, "b1"), (w1, "n"), ("n", w2), (w2, "J2"), (w2, "b2")])
+    model = bg.derive(g, outputs={"w1": bg.flow("w1")})
+    J1, J2, n, b1, b2 = P("J1 J2 n b1 b2")
+    G = model.transfer_function("T", "w1", normalize="as-derived")
+    assert sympy.simplify(G.expr - 1 / ((J1 + n**2 * J2) * s + b1 + n**2 * b2)) == 0

@@ -1,0 +1,227 @@
+"""Benchmark: fully symbolic transfer functions from state-space matrices.
+
+Models (built as sympy matrices here, independent of the engine core):
+
+- ``dc_motor``: armature current and speed, omega/V (2 states, 5 symbols);
+- ``hub_beam``: DC-motor hub (inductance neglected) with 3 modal beam modes,
+  tip deflection / voltage (8 states: theta, omega, 3 x (eta_i, eta_i'));
+- ``hub_beam_E``: the same hub and 3 modes coupled through a full mass
+  matrix, in descriptor form ``E x' = A x + B u`` (8 states, E not diagonal);
+- ``chain7``: 7 masses with springs and dampers to the previous mass (the
+  first to ground), force on mass 1, position of mass 7 (14 states, 21 symbols).
+
+Each configuration runs in a fresh process (``subprocess``); the time is the
+``transfer_function`` call only (imports excluded, reported separately).
+
+    python bench/bench_tf.py             # fast path (method auto) + references
+    python bench/bench_tf.py --slow      # also Berkowitz on the 14-state chain
+    python bench/bench_tf.py --json      # machine-readable rows
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def dc_motor():
+    import sympy as sp
+
+    La, Ra, J, b, K = sp.symbols("L_a R_a J b K", positive=True)
+    A = sp.Matrix([[-Ra / La, -K / La], [K / J, -b / J]])
+    B = sp.Matrix([1 / La, 0])
+    C = sp.Matrix([[0, 1]])
+    return A, B, C, sp.zeros(1, 1)
+
+
+def hub_beam(modes: int = 3):
+    """Hub angle/rate plus ``modes`` x (eta_i, eta_i'), as in the seed paper."""
+    import sympy as sp
+
+    J, b, K, R, Lb = sp.symbols("J b K R L_b", positive=True)
+    m = sp.symbols(f"m1:{modes + 1}", positive=True)
+    k = sp.symbols(f"k1:{modes + 1}", positive=True)
+    c = sp.symbols(f"c1:{modes + 1}", positive=True)
+    g = sp.symbols(f"g1:{modes + 1}", positive=True)   # phi_i'(0): torque -> mode
+    h = sp.symbols(f"h1:{modes + 1}", positive=True)   # phi_i(L): mode -> tip
+    n = 2 + 2 * modes
+    A = sp.zeros(n, n)
+    B = sp.zeros(n, 1)
+    C = sp.zeros(1, n)
+    # tau = K/R (V - K omega)
+    A[0, 1] = 1
+    A[1, 1] = -(b + K**2 / R) / J
+    B[1, 0] = K / (R * J)
+    C[0, 0] = Lb
+    for i in range(modes):
+        e, v = 2 + 2 * i, 3 + 2 * i
+        A[e, v] = 1
+        A[v, e] = -k[i] / m[i]
+        A[v, v] = -c[i] / m[i]
+        A[v, 1] = -g[i] * K**2 / (R * m[i])
+        B[v, 0] = g[i] * K / (R * m[i])
+        C[0, e] = h[i]
+    return A, B, C, sp.zeros(1, 1)
+
+
+def hub_beam_descriptor(modes: int = 3):
+    """Hub and modes coupled through a full mass matrix, descriptor form.
+
+    ``M q'' + Cd q' + K q = e_1 tau``, ``q = (theta, eta_1..)``, with
+    ``M = [[J_t, d^T], [d, diag(m)]]``; states ``(q, q')``, ``E = diag(I, M)``.
+    """
+    import sympy as sp
+
+    Jt, b, K, R, Lb = sp.symbols("J_t b K R L_b", positive=True)
+    m = sp.symbols(f"m1:{modes + 1}", positive=True)
+    k = sp.symbols(f"k1:{modes + 1}", positive=True)
+    c = sp.symbols(f"c1:{modes + 1}", positive=True)
+    d = sp.symbols(f"d1:{modes + 1}", positive=True)
+    h = sp.symbols(f"h1:{modes + 1}", positive=True)
+    nq = 1 + modes
+    M = sp.zeros(nq, nq)
+    M[0, 0] = Jt
+    for i in range(modes):
+        M[0, 1 + i] = M[1 + i, 0] = d[i]
+        M[1 + i, 1 + i] = m[i]
+    Cd = sp.diag(b + K**2 / R, *c)
+    Kq = sp.diag(0, *k)
+    E = sp.diag(sp.eye(nq), M)
+    A = sp.zeros(2 * nq, 2 * nq)
+    A[:nq, nq:] = sp.eye(nq)
+    A[nq:, :nq] = -Kq
+    A[nq:, nq:] = -Cd
+    B = sp.zeros(2 * nq, 1)
+    B[nq, 0] = K / R
+    C = sp.zeros(1, 2 * nq)
+    C[0, 0] = Lb
+    for i in range(modes):
+        C[0, 1 + i] = h[i]
+    return A, B, C, sp.zeros(1, 1), E
+
+
+def chain(nmass: int = 7):
+    import sympy as sp
+
+    m = sp.symbols(f"m1:{nmass + 1}", positive=True)
+    k = sp.symbols(f"k1:{nmass + 1}", positive=True)
+    b = sp.symbols(f"b1:{nmass + 1}", positive=True)
+    n = 2 * nmass
+    A = sp.zeros(n, n)
+    for i in range(nmass):
+        A[2 * i, 2 * i + 1] = 1
+    for link in range(nmass):            # link i joins mass i-1 (ground for i=0) and i
+        lo, hi = link - 1, link
+        for mass, sign in ((hi, 1), (lo, -1)):
+            if mass < 0:
+                continue
+            r = 2 * mass + 1
+            A[r, 2 * hi] -= sign * k[link] / m[mass]
+            A[r, 2 * hi + 1] -= sign * b[link] / m[mass]
+            if lo >= 0:
+                A[r, 2 * lo] += sign * k[link] / m[mass]
+                A[r, 2 * lo + 1] += sign * b[link] / m[mass]
+    B = sp.zeros(n, 1)
+    B[1, 0] = 1 / m[0]
+    C = sp.zeros(1, n)
+    C[0, n - 2] = 1
+    return A, B, C, sp.zeros(1, 1)
+
+
+MODELS = {"dc_motor": dc_motor, "hub_beam": hub_beam, "hub_beam_E": hub_beam_descriptor,
+          "chain7": chain}
+
+
+def run_one(model: str, method: str, normalize: str) -> dict:
+    t0 = time.perf_counter()
+    import sympy as sp
+    from sympy.external.gmpy import GROUND_TYPES
+
+    sys.path.insert(0, str(ROOT))
+    from bondgraph.tf import transfer_function
+    from bondgraph.tf._algebra import backend_name
+
+    t_import = time.perf_counter() - t0
+    A, B, C, D, *rest = MODELS[model]()
+    E = rest[0] if rest else None
+    syms = set()
+    for M in (A, B, C, D) + tuple(rest):
+        syms |= M.free_symbols
+    t1 = time.perf_counter()
+    G = transfer_function(A, B, C, D, E=E, method=method, normalize=normalize)
+    seconds = time.perf_counter() - t1
+    return {"model": model, "states": A.shape[0], "symbols": len(syms), "method": method,
+            "backend": "sympy-DomainMatrix" if method == "berkowitz" else backend_name(),
+            "ground_types": GROUND_TYPES, "normalize": normalize, "seconds": seconds,
+            "import_seconds": t_import, "order": G.order,
+            "den_terms": sum(len(sp.Add.make_args(sp.expand(c))) for c in
+                             transfer_function(A, B, C, D, E=E,
+                                               normalize="as-derived").den_coeffs)}
+
+
+def spawn(model: str, method: str, env_extra: dict, normalize: str = "monic",
+          timeout: float = 900) -> dict:
+    env = dict(os.environ, **env_extra)
+    cmd = [sys.executable, __file__, "--one", model, "--method", method,
+           "--normalize", normalize]
+    try:
+        out = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=timeout,
+                             check=True)
+    except subprocess.TimeoutExpired:
+        return {"model": model, "method": method, "seconds": float("inf"),
+                "note": f"timeout {timeout}s", **env_extra}
+    except subprocess.CalledProcessError as exc:  # pragma: no cover
+        return {"model": model, "method": method, "seconds": float("nan"),
+                "note": exc.stderr.strip().splitlines()[-1], **env_extra}
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--one", help=argparse.SUPPRESS)
+    ap.add_argument("--method", default="auto", help=argparse.SUPPRESS)
+    ap.add_argument("--normalize", default="monic", help=argparse.SUPPRESS)
+    ap.add_argument("--slow", action="store_true",
+                    help="also Berkowitz (DomainMatrix.charpoly) on the 14-state chain")
+    ap.add_argument("--json", action="store_true", help="print JSON rows")
+    args = ap.parse_args(argv)
+    if args.one:
+        print(json.dumps(run_one(args.one, args.method, args.normalize)))
+        return 0
+    configs = []
+    for model in MODELS:
+        configs.append((model, "auto", {"SYMPY_GROUND_TYPES": "flint"}))
+        configs.append((model, "auto", {"SYMPY_GROUND_TYPES": "python"}))
+    for model in ("dc_motor", "hub_beam") + (("chain7",) if args.slow else ()):
+        configs.append((model, "berkowitz", {"SYMPY_GROUND_TYPES": "flint"}))
+        configs.append((model, "berkowitz", {"SYMPY_GROUND_TYPES": "python"}))
+    for model in ("dc_motor", "hub_beam", "chain7"):
+        configs.append((model, "auto", {"BONDGRAPH_TF_BACKEND": "sympy",
+                                        "SYMPY_GROUND_TYPES": "flint"}))
+    rows = [spawn(*c) for c in configs]
+    if args.json:
+        for r in rows:
+            print(json.dumps(r))
+        return 0
+    head = f"{'model':<10} {'states':>6} {'symbols':>7}  {'method':<10} {'ring arithmetic':<19} " \
+           f"{'ground':<7} {'seconds':>8}  {'import s':>8}"
+    print(head)
+    print("-" * len(head))
+    for r in rows:
+        print(f"{r['model']:<10} {r.get('states', ''):>6} {r.get('symbols', ''):>7}  "
+              f"{r['method']:<10} {r.get('backend', r.get('BONDGRAPH_TF_BACKEND', '')):<19} "
+              f"{r.get('ground_types', r.get('SYMPY_GROUND_TYPES', '')):<7} "
+              f"{r['seconds']:>8.3f}  {r.get('import_seconds', float('nan')):>8.2f}"
+              + (f"  {r['note']}" if "note" in r else ""))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,371 @@
+"""Command line: ``bondgraph equations | tf | export | draw MODEL ...``.
+
+``MODEL`` is a model file (see :mod:`bondgraph.modelfile`): a Python file
+whose ``model()`` returns a :class:`~bondgraph.modelfile.ModelDefinition`.
+Numeric values are the definition's defaults, overridden by ``--params FILE``
+(JSON or TOML: a mapping of parameter names to finite numbers; nested
+tables/objects give dotted names, ``[motor] Ra = 1.2`` is ``motor.Ra``).
+
+Exit status: 0 on success, 1 when the command fails (the reason is printed
+as ``error: ...`` on stderr), 2 for bad command-line usage.
+
+Examples
+--------
+>>> main(["--version"])   # doctest: +ELLIPSIS
+bondgraph ...
+0
+>>> main(["equations", "no/such/model.py"])
+1
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import json
+import math
+import numbers
+import os
+import sys
+from pathlib import Path
+from typing import Mapping, Optional, Sequence
+
+from .errors import BondGraphError
+
+__all__ = ["main", "build_parser", "load_params", "ParamsFileError", "CLIError"]
+
+_EXPORT_FORMATS = {".mat": "mat", ".npz": "npz", ".json": "json", ".c": "c", ".m": "m", ".py": "py"}
+
+
+class CLIError(BondGraphError, ValueError):
+    """A command cannot do what was asked (unknown signal, missing values, ...)."""
+
+
+class ParamsFileError(CLIError):
+    """A ``--params`` file is missing, unreadable, or not a mapping of names to numbers."""
+
+
+# --------------------------------------------------------------------------- params files
+def load_params(path: "str | os.PathLike[str]") -> dict[str, float]:
+    """Read a JSON or TOML parameter file into ``{name: value}``.
+
+    Nested mappings give dotted names (``{"motor": {"Ra": 1}}`` is
+    ``motor.Ra``).  Every value must be a finite real number (not a bool, not
+    a string).
+
+    Raises
+    ------
+    ParamsFileError
+        Naming the file and, for a bad value, the parameter.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = pathlib.Path(d, "p.toml")
+    ...     _ = p.write_text('J = 0.01\\n[motor]\\nRa = 1.5\\n')
+    ...     load_params(p)
+    {'J': 0.01, 'motor.Ra': 1.5}
+    """
+    p = Path(os.fspath(path))
+    suffix = p.suffix.lower()
+    if suffix not in (".json", ".toml"):
+        raise ParamsFileError(f"params file '{p}' must be .json or .toml")
+    try:
+        raw = p.read_bytes()
+    except FileNotFoundError:
+        raise ParamsFileError(f"params file '{p}' does not exist") from None
+    except OSError as exc:
+        raise ParamsFileError(f"cannot read params file '{p}': {exc.strerror or exc}") from None
+    try:
+        if suffix == ".json":
+            data = json.loads(raw.decode("utf-8"))
+        else:
+            data = _toml().loads(raw.decode("utf-8"))
+    except UnicodeDecodeError as exc:
+        raise ParamsFileError(f"params file '{p}' is not UTF-8 text: {exc}") from None
+    except ValueError as exc:  # json.JSONDecodeError and tomllib.TOMLDecodeError
+        raise ParamsFileError(f"params file '{p}' is not valid {suffix[1:].upper()}: {exc}") from None
+    if not isinstance(data, dict):
+        raise ParamsFileError(
+            f"params file '{p}' must hold a mapping of parameter names to numbers; "
+            f"got a {type(data).__name__}")
+    out: dict[str, float] = {}
+    _flatten(data, "", out, p)
+    return out
+
+
+def _toml():
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python 3.10
+        try:
+            import tomli as tomllib  # type: ignore[no-redef]
+        except ModuleNotFoundError:
+            raise ParamsFileError("TOML params files need Python 3.11+ or the 'tomli' package; "
+                                  "use a .json file instead") from None
+    return tomllib
+
+
+def _flatten(data: Mapping, prefix: str, out: dict[str, float], path: Path) -> None:
+    for key, value in data.items():
+        name = f"{prefix}{key}"
+        if isinstance(value, dict):
+            _flatten(value, name + ".", out, path)
+            continue
+        if isinstance(value, bool) or not isinstance(value, numbers.Real):
+            raise ParamsFileError(
+                f"params file '{path}': parameter {name!r} must be a number; "
+                f"got {type(value).__name__} {value!r}")
+        if not math.isfinite(float(value)):
+            raise ParamsFileError(f"params file '{path}': parameter {name!r} must be finite; got {value!r}")
+        if name in out:
+            raise ParamsFileError(f"params file '{path}': parameter {name!r} is given twice")
+        out[name] = float(value)
+
+
+# --------------------------------------------------------------------------- helpers
+def _load(path: str):
+    from .modelfile import load_model
+
+    defn = load_model(path)
+    return defn, defn.derive()
+
+
+def _values(defn, model, params_file: Optional[str], *, complete: bool) -> Optional[dict[str, float]]:
+    """Defaults overridden by the params file; checked against the model's parameters."""
+    expected = [p.name for p in model.parameters]
+    known = set(expected)
+    listing = ", ".join(expected) or "(none)"
+    bad_defaults = sorted(set(defn.parameters) - known)
+    if bad_defaults:
+        raise CLIError(f"the model file gives default values for unknown parameters "
+                       f"{', '.join(bad_defaults)}; the model's parameters are: {listing}")
+    values = dict(defn.parameters)
+    if params_file is not None:
+        given = load_params(params_file)
+        unknown = sorted(set(given) - known)
+        if unknown:
+            raise CLIError(f"params file '{params_file}': unknown parameters {', '.join(unknown)}; "
+                           f"the model's parameters are: {listing}")
+        values.update(given)
+    missing = [n for n in expected if n not in values]
+    if missing:
+        if complete:
+            raise CLIError(f"no value for parameters {', '.join(missing)} (the model file has no "
+                           "default for them); give them in a --params FILE (JSON or TOML)")
+        return None
+    return {n: values[n] for n in expected}
+
+
+def _check_signal(name: str, names: Sequence[str], what: str) -> None:
+    if name not in names:
+        raise CLIError(f"the model has no {what} named {name!r}; "
+                       f"valid {what}s: {', '.join(names) or '(none)'}")
+
+
+def _transfer_module():
+    for modname in ("bondgraph.transfer", "bondgraph.tf"):
+        try:
+            module = importlib.import_module(modname)
+        except ModuleNotFoundError as exc:
+            if exc.name not in (modname, "bondgraph.tf"):
+                raise
+            continue
+        if hasattr(module, "transfer_function"):
+            return module
+    raise CLIError("symbolic transfer functions need bondgraph.transfer (not available in this "
+                   "installation)")
+
+
+# --------------------------------------------------------------------------- commands
+def _cmd_equations(args) -> None:
+    import sympy
+
+    defn, model = _load(args.model)
+    out = [f"model {model.name!r}" + (f": {defn.description}" if defn.description else "")]
+    for title, names in (("states", model.state_names), ("inputs", model.input_names),
+                         ("outputs", model.output_names)):
+        out.append(f"{title} ({len(names)}): {', '.join(names) or '-'}")
+    params = [f"{p.name} = {defn.parameters[p.name]:g}" if p.name in defn.parameters else p.name
+              for p in model.parameters]
+    out.append(f"parameters ({len(params)}): {', '.join(params) or '-'}")
+    out.append("")
+    if args.latex:
+        lines = [f"\\dot{{{sympy.latex(s)}}} &= {sympy.latex(r)}" for s, r in zip(model.states, model.rhs)]
+        lines += [f"{sympy.latex(sympy.Symbol(n))} &= {sympy.latex(g)}"
+                  for n, g in zip(model.output_names, model.output_exprs)]
+        out += ["\\begin{aligned}", " \\\\\n".join(lines), "\\end{aligned}"]
+    else:
+        out += [f"d{s.name}/dt = {r}" for s, r in zip(model.states, model.rhs)]
+        out += [f"{n} = {g}" for n, g in zip(model.output_names, model.output_exprs)]
+    print("\n".join(out))
+
+
+def _cmd_tf(args) -> None:
+    defn, model = _load(args.model)
+    ss = model.state_space()
+    inp = args.input if args.input is not None else _only(ss.input_names, "input")
+    outp = args.output if args.output is not None else _only(ss.output_names, "output")
+    _check_signal(inp, ss.input_names, "input")
+    _check_signal(outp, ss.output_names, "output")
+    values = _values(defn, model, args.params, complete=True) if args.numeric else None
+    tfmod = _transfer_module()
+    G = tfmod.transfer_function(ss.A, ss.B, ss.C, ss.D, input=inp, output=outp,
+                                input_names=list(ss.input_names), output_names=list(ss.output_names))
+    if values is None:
+        print(G.to_latex() if args.latex else str(G))
+        return
+    N = G.subs(values)
+    print(N.to_latex() if args.latex else str(N))
+    table = N.table()
+    if table.rows:
+        print()
+        print(table.to_latex() if args.latex else str(table))
+
+
+def _only(names: Sequence[str], what: str) -> str:
+    if len(names) == 1:
+        return names[0]
+    raise CLIError(f"the model has {len(names)} {what}s; "
+                   f"choose one with --{what}: {', '.join(names) or '(none)'}")
+
+
+def _cmd_export(args) -> None:
+    fmt = args.format
+    out = Path(args.output)
+    if fmt is None:
+        fmt = _EXPORT_FORMATS.get(out.suffix.lower())
+        if fmt is None:
+            raise CLIError(f"cannot tell the export format from '{out}'; give --format "
+                           f"{'|'.join(sorted(set(_EXPORT_FORMATS.values())))}")
+    if args.name is not None and fmt != "c":
+        raise CLIError("--name only applies to --format c (a MATLAB function is named after its file)")
+    defn, model = _load(args.model)
+    if fmt in ("mat", "npz", "json"):
+        from .export import export
+        from .numeric import compile_plant
+
+        values = _values(defn, model, args.params, complete=True)
+        plant = compile_plant(model).plant(values)
+        export(plant, out, format=fmt)
+        print(f"wrote {out}")
+        return
+    values = _values(defn, model, args.params, complete=False)
+    if values is None:
+        print("note: not every parameter has a value; the generated code has no defaults",
+              file=sys.stderr)
+    if fmt == "c":
+        from .codegen import write_c
+
+        if out.suffix not in ("", ".c"):
+            raise CLIError(f"C output '{out}' must end in .c (the header is written beside it as .h)")
+        src, hdr = write_c(model, out, name=args.name, defaults=values)
+        print(f"wrote {src}\nwrote {hdr}")
+    elif fmt == "m":
+        from .codegen import write_matlab
+
+        print(f"wrote {write_matlab(model, out, defaults=values)}")
+    else:
+        from .codegen import write_python
+
+        print(f"wrote {write_python(model, out, defaults=values)}")
+
+
+def _cmd_draw(args) -> None:
+    from .modelfile import load_model
+
+    defn = load_model(args.model)
+    try:
+        drawing = importlib.import_module("bondgraph.drawing")
+    except ModuleNotFoundError as exc:
+        if exc.name not in ("bondgraph.drawing",):
+            raise
+        raise CLIError("drawing needs bondgraph.drawing (not available in this installation)") from None
+    drawing.draw(defn.graph, args.output, fmt=args.format, causality=not args.no_causality)
+    print(f"wrote {args.output}")
+
+
+# --------------------------------------------------------------------------- parser
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser (exposed for documentation tools and tests)."""
+    from . import __version__
+
+    parser = argparse.ArgumentParser(
+        prog="bondgraph",
+        description="Bond graphs to state equations, transfer functions, numeric plants and code.",
+        epilog="MODEL is a Python file defining model() -> bondgraph.modelfile.ModelDefinition. "
+               "Model files are executed: run only files you trust.")
+    parser.add_argument("--version", action="version", version=f"bondgraph {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub.required = True
+
+    p = sub.add_parser("equations", help="print the state equations and outputs",
+                       description="Print the model's states, inputs, outputs, parameters "
+                                   "(with default values) and equations x' = f(x, u), y = g(x, u).")
+    p.add_argument("model", metavar="MODEL", help="model file (.py)")
+    p.add_argument("--latex", action="store_true", help="print the equations as LaTeX (aligned)")
+    p.set_defaults(func=_cmd_equations)
+
+    p = sub.add_parser("tf", help="print a transfer function",
+                       description="Print the transfer function from one input to one output, "
+                                   "symbolic or (--numeric) with parameter values.")
+    p.add_argument("model", metavar="MODEL", help="model file (.py)")
+    p.add_argument("--input", "-u", metavar="U", help="input name (optional if there is one input)")
+    p.add_argument("--output", "-y", metavar="Y", help="output name (optional if there is one output)")
+    p.add_argument("--latex", action="store_true", help="print LaTeX")
+    p.add_argument("--numeric", action="store_true",
+                   help="substitute parameter values (defaults, overridden by --params) and "
+                        "print poles and zeros")
+    p.add_argument("--params", metavar="FILE", help="parameter values, JSON or TOML")
+    p.set_defaults(func=_cmd_tf)
+
+    p = sub.add_parser("export", help="export a numeric plant or generate code",
+                       description="Write the numeric plant (mat, npz, json; every parameter needs a "
+                                   "value) or code for the equations (c: .c and .h; m: MATLAB/Octave "
+                                   "function; py: plain Python module). Files are written atomically.")
+    p.add_argument("model", metavar="MODEL", help="model file (.py)")
+    p.add_argument("--format", "-f", choices=["mat", "npz", "json", "c", "m", "py"],
+                   help="output format (default: from the output file's suffix)")
+    p.add_argument("--params", metavar="FILE", help="parameter values, JSON or TOML")
+    p.add_argument("--name", metavar="NAME", help="C symbol prefix (default: the model's name)")
+    p.add_argument("-o", "--output", metavar="OUT", required=True, help="output file")
+    p.set_defaults(func=_cmd_export)
+
+    p = sub.add_parser("draw", help="draw the bond graph (SVG or PNG)",
+                       description="Draw the bond graph with causal strokes to an SVG or PNG file.")
+    p.add_argument("model", metavar="MODEL", help="model file (.py)")
+    p.add_argument("-o", "--output", metavar="FILE", required=True, help="output file, .svg or .png")
+    p.add_argument("--format", "-f", choices=["svg", "png"], help="default: from the file's suffix")
+    p.add_argument("--no-causality", action="store_true", help="omit causal strokes")
+    p.set_defaults(func=_cmd_draw)
+    return parser
+
+
+def main(argv: Optional[Sequence[str]] = None) -> int:
+    """Run the command line; returns the exit status (0 success, 1 failure, 2 usage).
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        Arguments without the program name; default ``sys.argv[1:]``.
+    """
+    parser = build_parser()
+    try:
+        args = parser.parse_args(list(argv) if argv is not None else None)
+    except SystemExit as exc:  # --help, --version, usage errors
+        return int(exc.code or 0) if not isinstance(exc.code, str) else 2
+    try:
+        args.func(args)
+    except (BondGraphError, OSError, ValueError) as exc:
+        print(f"error: {_message(exc)}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _message(exc: BaseException) -> str:
+    text = str(exc) or type(exc).__name__
+    if isinstance(exc, OSError) and not isinstance(exc, BondGraphError) and exc.filename:
+        text = f"{exc.strerror or exc}: '{exc.filename}'"
+    return text
+

@@ -1,0 +1,39 @@
+"""Code generation from a model's symbolic equations: C, MATLAB/Octave, Python.
+
+Each generator renames the model's symbols to identifiers of the target
+language (``motor.Ra`` -> ``motor_Ra``, avoiding reserved words and
+clashes), splits the equations into common subexpressions with
+:func:`sympy.cse`, and prints them with sympy's code printers (doubles
+printed exactly; a function with no equivalent in the target is an error,
+never silently left in the code).  Arrays are in the model's order: states,
+inputs and outputs as derived, parameters sorted by name
+(``Model.parameters``).
+
+* :func:`generate_c` / :func:`write_c` -- a ``.c``/``.h`` pair with
+  ``NAME_derivatives``, ``NAME_outputs``, ``NAME_step_euler`` and
+  ``NAME_step_rk4``.
+* :func:`generate_matlab` / :func:`write_matlab` -- ``[xdot, y] = NAME(t, x, u, p)``.
+* :func:`generate_python` / :func:`write_python` -- a module using only :mod:`math`.
+
+Examples
+--------
+>>> import bondgraph as bg
+>>> from bondgraph.codegen import generate_c
+>>> g = bg.BondGraph("servo")
+>>> V, i = bg.Se("V"), bg.One("i")
+>>> g.add(V, i, bg.I("L", "motor.L"), bg.R("R", "motor_L"))
+>>> for tail, head in [(V, i), (i, "L"), (i, "R")]: _ = g.connect(tail, head)
+>>> code = generate_c(bg.derive(g, outputs={"i": bg.flow("L")}))
+>>> code.identifiers["motor.L"], code.identifiers["motor_L"]
+('motor_L_2', 'motor_L')
+>>> "#define SERVO_NX 1" in code.header
+True
+"""
+
+from ._common import CodegenError
+from .c import CCode, generate_c, write_c
+from .matlab import generate_matlab, write_matlab
+from .python import generate_python, write_python
+
+__all__ = ["CodegenError", "CCode", "generate_c", "write_c", "generate_matlab", "write_matlab",
+           "generate_python", "write_python"]

@@ -1,0 +1,267 @@
+"""Model files: a Python file with a ``model()`` function returning a definition.
+
+A model is Python, so a model file is imported (executed) like any module:
+only load files you trust.  The protocol is small::
+
+    # models/dc_motor.py
+    import bondgraph as bg
+    from bondgraph.modelfile import ModelDefinition
+
+    def model() -> ModelDefinition:
+        g = bg.BondGraph("dc_motor")
+        ...
+        return ModelDefinition(graph=g, outputs={"omega": bg.flow("J")},
+                               parameters={"Ra": 1.0, "La": 0.5e-3, ...},
+                               description="DC motor, voltage to speed")
+
+:func:`load_model` imports such a file by path and checks what it returns;
+:meth:`ModelDefinition.derive` gives the :class:`~bondgraph.model.Model`.
+
+Examples
+--------
+>>> import bondgraph as bg
+>>> g = bg.BondGraph("rc")
+>>> V, n = bg.Se("V"), bg.One("i")
+>>> g.add(V, n, bg.R("R"), bg.C("C"))
+>>> _ = g.connect(V, n); _ = g.connect(n, "R"); _ = g.connect(n, "C")
+>>> d = ModelDefinition(g, {"vC": bg.effort("C")}, {"R": 1e3, "C": 1e-6})
+>>> d.name, d.derive().state_names, dict(d.parameters)
+('rc', ('q_C',), {'R': 1000.0, 'C': 1e-06})
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import math
+import numbers
+import os
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import MappingProxyType
+from typing import Any, Mapping, Union
+
+import sympy
+
+from .equations import derive as _derive
+from .errors import BondGraphError
+from .graph import BondGraph
+from .model import Model
+
+__all__ = ["ModelDefinition", "ModelFileError", "load_model"]
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+class ModelFileError(BondGraphError, ValueError):
+    """A model file is missing, is not Python, fails, or defines no model."""
+
+
+@dataclass(frozen=True, eq=False)
+class ModelDefinition:
+    """What a model file's ``model()`` returns: a graph, outputs and default values.
+
+    Parameters
+    ----------
+    graph : BondGraph
+        The bond graph.  A copy is kept, so later edits of ``graph`` do not
+        change the definition.
+    outputs : mapping of str to sympy expression, optional
+        Named outputs, as for :func:`bondgraph.derive`.
+    parameters : mapping of str to float, optional
+        Default numeric values keyed by parameter (symbol) name, such as
+        ``"Ra"`` or ``"motor.Ra"``.  They need not cover every parameter.
+    description : str, optional
+        One line shown by the command line tool.
+
+    Raises
+    ------
+    ModelFileError
+        If a field has the wrong type or a default value is not a finite real
+        number.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("mass")
+    >>> F, v = bg.Se("F"), bg.One("v")
+    >>> g.add(F, v, bg.I("m"))
+    >>> _ = g.connect(F, v); _ = g.connect(v, "m")
+    >>> d = ModelDefinition(g, {"v": bg.flow("m")}, {"m": 2})
+    >>> d.derive().rhs, d.parameters["m"]
+    ((F,), 2.0)
+    """
+
+    graph: BondGraph
+    outputs: Mapping[str, sympy.Expr] = field(default_factory=dict)
+    parameters: Mapping[str, float] = field(default_factory=dict)
+    description: str = ""
+    _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.graph, BondGraph):
+            raise ModelFileError(
+                f"ModelDefinition.graph must be a bondgraph.BondGraph; got {type(self.graph).__name__}")
+        if not isinstance(self.outputs, Mapping):
+            raise ModelFileError(
+                f"ModelDefinition.outputs must be a mapping of name to signal expression; "
+                f"got {type(self.outputs).__name__}")
+        if not isinstance(self.parameters, Mapping):
+            raise ModelFileError(
+                f"ModelDefinition.parameters must be a mapping of parameter name to number; "
+                f"got {type(self.parameters).__name__}")
+        if not isinstance(self.description, str):
+            raise ModelFileError(
+                f"ModelDefinition.description must be a str; got {type(self.description).__name__}")
+        values = {}
+        for key, value in self.parameters.items():
+            if not isinstance(key, str):
+                raise ModelFileError(
+                    f"ModelDefinition.parameters: key {key!r} must be a parameter name (str)")
+            values[key] = _finite(value, key)
+        object.__setattr__(self, "graph", self.graph.copy())
+        object.__setattr__(self, "outputs", MappingProxyType(dict(self.outputs)))
+        object.__setattr__(self, "parameters", MappingProxyType(values))
+
+    @property
+    def name(self) -> str:
+        """The graph's name."""
+        return self.graph.name
+
+    def derive(self) -> Model:
+        """The derived :class:`~bondgraph.model.Model` (computed once, then cached).
+
+        Examples
+        --------
+        >>> import bondgraph as bg
+        >>> g = bg.BondGraph("m")
+        >>> g.add(bg.Se("F"), bg.I("m")); _ = g.connect("F", "m")
+        >>> d = ModelDefinition(g)
+        >>> d.derive() is d.derive()
+        True
+        """
+        if "model" not in self._cache:
+            self._cache["model"] = _derive(self.graph, outputs=dict(self.outputs))
+        return self._cache["model"]
+
+
+def _finite(value: Any, name: str) -> float:
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise ModelFileError(
+            f"default value of parameter {name!r} must be a finite real number; "
+            f"got {type(value).__name__} {value!r}")
+    out = float(value)
+    if not math.isfinite(out):
+        raise ModelFileError(f"default value of parameter {name!r} must be finite; got {value!r}")
+    return out
+
+
+def load_model(path: PathLike) -> ModelDefinition:
+    """Import a model file and return what its ``model()`` function builds.
+
+    The file is executed as a Python module (the model *is* Python): load only
+    files you trust.  While it runs, its directory is on ``sys.path`` so it may
+    import helper modules next to it.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A ``.py`` file defining ``model()`` with no required arguments.
+
+    Returns
+    -------
+    ModelDefinition
+
+    Raises
+    ------
+    ModelFileError
+        If the file does not exist, is not a ``.py`` file, raises while being
+        imported, has no callable ``model``, or ``model()`` fails or returns
+        something other than a :class:`ModelDefinition`.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> src = '''
+    ... import bondgraph as bg
+    ... from bondgraph.modelfile import ModelDefinition
+    ... def model():
+    ...     g = bg.BondGraph("spring")
+    ...     g.add(bg.Sf("v"), bg.C("k"))
+    ...     g.connect("v", "k")
+    ...     return ModelDefinition(g, {"F": bg.effort("k")}, {"k": 0.5})
+    ... '''
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     p = pathlib.Path(d, "spring.py"); _ = p.write_text(src)
+    ...     load_model(p).derive().rhs
+    (v,)
+    >>> load_model("no/such/model.py")
+    Traceback (most recent call last):
+    ...
+    bondgraph.modelfile.ModelFileError: model file 'no/such/model.py' does not exist
+    """
+    try:
+        p = Path(os.fspath(path))
+    except TypeError:
+        raise ModelFileError(f"model file path must be a str or path; got {type(path).__name__}") from None
+    if not p.exists():
+        raise ModelFileError(f"model file '{p}' does not exist")
+    if not p.is_file():
+        raise ModelFileError(f"model file '{p}' is not a file")
+    if p.suffix != ".py":
+        raise ModelFileError(f"model file '{p}' is not a Python file: expected a name ending in .py")
+    module = _import(p)
+    fn = getattr(module, "model", None)
+    if fn is None:
+        raise ModelFileError(
+            f"model file '{p}' defines no function model(); it must define "
+            "def model() -> bondgraph.modelfile.ModelDefinition")
+    if not callable(fn):
+        raise ModelFileError(f"model file '{p}': model is a {type(fn).__name__}, not a function")
+    try:
+        result = fn()
+    except BondGraphError as exc:
+        raise ModelFileError(f"model file '{p}': model() failed: {exc}") from exc
+    except Exception as exc:
+        raise ModelFileError(
+            f"model file '{p}': model() raised {type(exc).__name__}: {exc}") from exc
+    if not isinstance(result, ModelDefinition):
+        raise ModelFileError(
+            f"model file '{p}': model() returned {type(result).__name__}; expected a "
+            "bondgraph.modelfile.ModelDefinition(graph, outputs, parameters)")
+    return result
+
+
+def _import(p: Path):
+    resolved = p.resolve()
+    digest = hashlib.sha1(str(resolved).encode()).hexdigest()[:10]
+    modname = f"_bondgraph_model_{_identifier(p.stem)}_{digest}"
+    spec = importlib.util.spec_from_file_location(modname, resolved)
+    if spec is None or spec.loader is None:  # pragma: no cover - .py files always have a loader
+        raise ModelFileError(f"model file '{p}' cannot be imported")
+    module = importlib.util.module_from_spec(spec)
+    folder = str(resolved.parent)
+    sys.path.insert(0, folder)
+    sys.modules[modname] = module
+    try:
+        spec.loader.exec_module(module)
+    except SyntaxError as exc:
+        sys.modules.pop(modname, None)
+        raise ModelFileError(
+            f"model file '{p}' has a syntax error at line {exc.lineno}: {exc.msg}") from exc
+    except Exception as exc:
+        sys.modules.pop(modname, None)
+        raise ModelFileError(
+            f"model file '{p}' raised {type(exc).__name__} while being imported: {exc}") from exc
+    finally:
+        try:
+            sys.path.remove(folder)
+        except ValueError:  # pragma: no cover - the model removed it itself
+            pass
+    return module
+
+
+def _identifier(stem: str) -> str:
+    out = "".join(c if c.isalnum() or c == "_" else "_" for c in stem)
+    return out or "model"

@@ -1,0 +1,43 @@
+"""Numeric plants from derived models: evaluation, batches, simulation.
+
+* :func:`compile_plant` / :class:`NumericModel` -- a linear model's
+  ``A, B, C, D`` lambdified once; ``.plant(values)`` gives a
+  :class:`NumericStateSpace` (python-control, scipy, eigenvalues, frequency
+  response), ``.batch(arrays)`` a :class:`BatchStateSpace` of many plants.
+* :func:`compile_dynamics` / :func:`simulate` / :func:`to_nonlinear_iosys` --
+  nonlinear and time-varying models in time.
+
+Parameter values are a mapping keyed by sympy Symbol or name (``"motor.Ra"``);
+all parameters must be given, and nothing else.
+
+Examples
+--------
+>>> import bondgraph as bg
+>>> from bondgraph.numeric import compile_plant
+>>> g = bg.BondGraph("dc_motor")
+>>> V, ia, w = bg.Se("V"), bg.One("ia"), bg.One("w")
+>>> g.add(V, ia, w, bg.R("Ra"), bg.I("La"), bg.GY("K"), bg.I("J"), bg.R("b"))
+>>> for tail, head in [(V, ia), (ia, "Ra"), (ia, "La"), (ia, "K"), ("K", w), (w, "J"), (w, "b")]:
+...     _ = g.connect(tail, head)
+>>> plant = compile_plant(bg.derive(g, outputs={"omega": bg.flow("J")}))
+>>> ss = plant.plant({"Ra": 1.0, "La": 0.5, "K": 0.1, "J": 0.01, "b": 0.1})
+>>> ss.A
+array([[ -2. , -10. ],
+       [  0.2, -10. ]])
+>>> ss.to_control().state_labels
+['p_La', 'p_J']
+"""
+
+from .errors import NumericError, ParameterValueError, SimulationError
+from .parameters import parameter_name, resolve_batch, resolve_parameters
+from .plant import (BatchStateSpace, NumericModel, NumericStateSpace, compile_plant,
+                    control_labels, numeric_plant)
+from .simulate import (NumericDynamics, SimulationResult, compile_dynamics, simulate,
+                       to_nonlinear_iosys)
+
+__all__ = [
+    "NumericStateSpace", "BatchStateSpace", "NumericModel", "compile_plant", "numeric_plant",
+    "NumericDynamics", "compile_dynamics", "SimulationResult", "simulate", "to_nonlinear_iosys",
+    "resolve_parameters", "resolve_batch", "parameter_name", "control_labels",
+    "NumericError", "ParameterValueError", "SimulationError",
+]

@@ -1,0 +1,468 @@
+"""Numeric linear plants: symbolic A, B, C, D compiled once, evaluated many times.
+
+:func:`compile_plant` lambdifies the nonzero entries of the model's
+``A, B, C, D`` once (numpy, with common-subexpression elimination) into a
+:class:`NumericModel`; :meth:`NumericModel.plant` evaluates one parameter set
+into a :class:`NumericStateSpace`, :meth:`NumericModel.batch` evaluates
+thousands at once into a :class:`BatchStateSpace` (stacked ``(P, n, n)``
+arrays with batched eigenvalues and frequency responses).  Numbers are never
+substituted into sympy expressions.
+
+Examples
+--------
+>>> import bondgraph as bg
+>>> g = bg.BondGraph("msd")
+>>> F, v = bg.Se("F"), bg.One("v")
+>>> g.add(F, v, bg.I("m"), bg.R("b"), bg.C("k", stiffness="k"))
+>>> for tail, head in [(F, v), (v, "m"), (v, "b"), (v, "k")]: _ = g.connect(tail, head)
+>>> nm = compile_plant(bg.derive(g, outputs={"x": bg.displacement("k")}))
+>>> nm.parameter_names
+('b', 'k', 'm')
+>>> nm.plant({"m": 1.0, "b": 2.0, "k": 5.0}).eigenvalues()     # s^2 + 2 s + 5
+array([-1.-2.j, -1.+2.j])
+>>> nm.batch({"m": 1.0, "b": [2.0, 5.0], "k": 4.0}).eigenvalues().real.round(9)
+array([[-1., -1.],
+       [-4., -1.]])
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any, Mapping, Optional, Sequence, Union
+
+import numpy as np
+import sympy
+
+from ..model import Model
+from ._compile import lambdify_cse
+from ._linalg import freeze, frequency_response, sorted_eigenvalues
+from .errors import NumericError, ParameterValueError
+from .parameters import ParameterValues, resolve_batch, resolve_parameters
+
+if TYPE_CHECKING:  # imported lazily at run time
+    import control
+    import scipy.signal
+
+__all__ = ["NumericStateSpace", "BatchStateSpace", "NumericModel", "compile_plant",
+           "numeric_plant", "control_labels"]
+
+
+def control_labels(names: Sequence[str]) -> list[str]:
+    """Signal names acceptable to python-control, which forbids ``'.'``.
+
+    Dots of hierarchical names become underscores; a clash with another name
+    gets a numeric suffix.
+
+    Examples
+    --------
+    >>> control_labels(["motor.V", "F", "motor_V"])
+    ['motor_V_2', 'F', 'motor_V']
+    """
+    out: list[str] = []
+    taken = {n for n in names if "." not in n}
+    for name in names:
+        label = name.replace(".", "_")
+        if "." in name and label in taken:
+            k = 2
+            while f"{label}_{k}" in taken:
+                k += 1
+            label = f"{label}_{k}"
+        elif label in out:
+            k = 2
+            while f"{label}_{k}" in taken or f"{label}_{k}" in out:
+                k += 1
+            label = f"{label}_{k}"
+        taken.add(label)
+        out.append(label)
+    return out
+
+
+def _matrix(value: Any, label: str) -> np.ndarray:
+    arr = np.array(value, dtype=float)
+    if arr.ndim != 2:
+        raise NumericError(f"state-space matrix {label} must be 2-D; got shape {arr.shape}")
+    return freeze(arr)
+
+
+@dataclass(frozen=True, eq=False)
+class NumericStateSpace:
+    """``x' = A x + B u``, ``y = C x + D u`` with numbers and names.
+
+    Parameters
+    ----------
+    A, B, C, D : array_like
+        Stored as read-only float64 arrays.
+    state_names, input_names, output_names : sequence of str
+    parameters : mapping of str to float, optional
+        The parameter values the matrices were evaluated at.
+    name : str, optional
+        The model's name.
+
+    Raises
+    ------
+    NumericError
+        If a matrix shape does not match the numbers of names.
+
+    Examples
+    --------
+    >>> ss = NumericStateSpace([[0.0, 1.0], [-4.0, -0.4]], [[0.0], [1.0]], [[1.0, 0.0]], [[0.0]],
+    ...                        ("x", "v"), ("F",), ("x",), name="osc")
+    >>> ss.eigenvalues()
+    array([-0.2-1.98997487j, -0.2+1.98997487j])
+    >>> complex(ss.frequency_response([0.0])[0, 0, 0])       # DC gain 1/4
+    (0.25+0j)
+    >>> ss.A[0, 0] = 1.0
+    Traceback (most recent call last):
+    ...
+    ValueError: assignment destination is read-only
+    """
+
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    state_names: tuple[str, ...]
+    input_names: tuple[str, ...]
+    output_names: tuple[str, ...]
+    parameters: Mapping[str, float] = field(default_factory=dict)
+    name: str = ""
+
+    def __post_init__(self) -> None:
+        names = tuple(tuple(str(s) for s in getattr(self, f)) for f in
+                      ("state_names", "input_names", "output_names"))
+        n, m, p = (len(x) for x in names)
+        for label, shape in (("A", (n, n)), ("B", (n, m)), ("C", (p, n)), ("D", (p, m))):
+            raw = getattr(self, label)
+            arr = _matrix(np.reshape(raw, shape) if np.size(raw) == 0 else raw, label)
+            if arr.shape != shape:
+                raise NumericError(
+                    f"state-space matrix {label} has shape {arr.shape}; expected {shape} "
+                    f"for {n} states, {m} inputs, {p} outputs")
+            object.__setattr__(self, label, arr)
+        for f, value in zip(("state_names", "input_names", "output_names"), names):
+            object.__setattr__(self, f, value)
+        object.__setattr__(self, "parameters",
+                           MappingProxyType({str(k): float(v) for k, v in dict(self.parameters).items()}))
+
+    def __repr__(self) -> str:
+        return (f"NumericStateSpace({self.name!r}: {self.nstates} states, {self.ninputs} inputs, "
+                f"{self.noutputs} outputs)")
+
+    @property
+    def nstates(self) -> int:
+        return len(self.state_names)
+
+    @property
+    def ninputs(self) -> int:
+        return len(self.input_names)
+
+    @property
+    def noutputs(self) -> int:
+        return len(self.output_names)
+
+    def eigenvalues(self) -> np.ndarray:
+        """Eigenvalues of ``A`` (the poles), sorted by real then imaginary part."""
+        return sorted_eigenvalues(self.A)
+
+    def frequency_response(self, omega: Union[float, Sequence[float], np.ndarray]) -> np.ndarray:
+        """``H(jw) = C (jw I - A)^-1 B + D`` at the angular frequencies ``omega`` (rad/s).
+
+        Returns
+        -------
+        numpy.ndarray
+            Complex, shape ``(len(omega), noutputs, ninputs)``; ``nan`` where
+            ``jw`` is an eigenvalue of ``A``.
+        """
+        return frequency_response(self.A, self.B, self.C, self.D, omega)
+
+    def to_control(self) -> control.StateSpace:
+        """A python-control ``StateSpace`` with state, input and output labels.
+
+        python-control forbids ``'.'`` in signal names: hierarchical names are
+        given with ``'_'`` (see :func:`control_labels`).
+
+        Examples
+        --------
+        >>> ss = NumericStateSpace([[-1.0]], [[1.0]], [[2.0]], [[0.0]], ("x",), ("motor.V",), ("y",))
+        >>> sys = ss.to_control()
+        >>> sys.input_labels, float(sys.dcgain())
+        (['motor_V'], 2.0)
+        """
+        import control
+
+        return control.ss(self.A, self.B, self.C, self.D,
+                          states=control_labels(self.state_names),
+                          inputs=control_labels(self.input_names),
+                          outputs=control_labels(self.output_names),
+                          name=self.name or None)
+
+    def to_tf(self, *, input: Optional[str] = None,
+              output: Optional[str] = None) -> control.TransferFunction:
+        """A python-control ``TransferFunction`` (MIMO, or one channel), keeping names.
+
+        Parameters
+        ----------
+        input, output : str, optional
+            Pick one channel by name; by default all channels.
+
+        Examples
+        --------
+        >>> ss = NumericStateSpace([[-2.0]], [[1.0]], [[4.0]], [[0.0]], ("x",), ("u",), ("y",))
+        >>> G = ss.to_tf(input="u", output="y")
+        >>> G.num[0][0], G.den[0][0], G.output_labels
+        (array([4.]), array([1., 2.]), ['y'])
+        """
+        import control
+
+        G = control.ss2tf(self.to_control(), name=self.name or None)
+        if input is None and output is None:
+            return G
+        rows = range(self.noutputs) if output is None else [self._index(output, self.output_names, "output")]
+        cols = range(self.ninputs) if input is None else [self._index(input, self.input_names, "input")]
+        return G[list(rows), list(cols)]
+
+    def to_scipy(self) -> scipy.signal.StateSpace:
+        """The ``scipy.signal.StateSpace`` system (continuous time, no names)."""
+        import scipy.signal
+
+        return scipy.signal.StateSpace(self.A, self.B, self.C, self.D)
+
+    @staticmethod
+    def _index(name: str, names: tuple[str, ...], what: str) -> int:
+        if name in names:
+            return names.index(name)
+        raise NumericError(f"no {what} named {name!r}; {what}s are {', '.join(names) or '(none)'}")
+
+
+@dataclass(frozen=True, eq=False)
+class BatchStateSpace:
+    """``P`` plants of one model: stacked ``A (P, n, n)``, ``B (P, n, m)``, ``C``, ``D``.
+
+    Attributes
+    ----------
+    A, B, C, D : numpy.ndarray
+        Read-only stacks.
+    state_names, input_names, output_names, parameter_names : tuple of str
+    parameter_values : numpy.ndarray
+        Shape ``(P, k)``, one row per parameter set, columns as ``parameter_names``.
+    name : str
+    """
+
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    state_names: tuple[str, ...]
+    input_names: tuple[str, ...]
+    output_names: tuple[str, ...]
+    parameter_names: tuple[str, ...]
+    parameter_values: np.ndarray
+    name: str = ""
+
+    def __repr__(self) -> str:
+        return (f"BatchStateSpace({self.name!r}: {len(self)} plants, {len(self.state_names)} states, "
+                f"{len(self.input_names)} inputs, {len(self.output_names)} outputs)")
+
+    def __len__(self) -> int:
+        return self.A.shape[0]
+
+    def __getitem__(self, i: int) -> NumericStateSpace:
+        """Plant number ``i`` as a :class:`NumericStateSpace`."""
+        i = range(len(self))[i]
+        return NumericStateSpace(self.A[i], self.B[i], self.C[i], self.D[i], self.state_names,
+                                 self.input_names, self.output_names,
+                                 dict(zip(self.parameter_names, self.parameter_values[i].tolist())),
+                                 self.name)
+
+    def eigenvalues(self) -> np.ndarray:
+        """Eigenvalues of every ``A`` at once, shape ``(P, n)``, each row sorted."""
+        return sorted_eigenvalues(self.A)
+
+    def frequency_response(self, omega: Union[float, Sequence[float], np.ndarray]) -> np.ndarray:
+        """Batched ``H(jw)``, complex array of shape ``(P, len(omega), noutputs, ninputs)``."""
+        return frequency_response(self.A, self.B, self.C, self.D, omega)
+
+
+class NumericModel:
+    """A linear model's ``A, B, C, D`` compiled to numpy once, for repeated evaluation.
+
+    Parameters
+    ----------
+    model : Model
+        A linear derived model.
+
+    Raises
+    ------
+    NonlinearModelError
+        If the model has no (A, B, C, D) form.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("rc")
+    >>> V, n = bg.Se("V"), bg.One("i")
+    >>> g.add(V, n, bg.R("R"), bg.C("C"))
+    >>> _ = g.connect(V, n); _ = g.connect(n, "R"); _ = g.connect(n, "C")
+    >>> nm = NumericModel(bg.derive(g, outputs={"vC": bg.effort("C")}))
+    >>> nm.plant({"R": 1e3, "C": 1e-6}).A
+    array([[-1000.]])
+    """
+
+    def __init__(self, model: Model) -> None:
+        if not isinstance(model, Model):
+            raise NumericError("expected a bondgraph Model (from bondgraph.derive); "
+                               f"got {type(model).__name__}")
+        ss = model.state_space()
+        self._model = model
+        self._params: tuple[sympy.Symbol, ...] = model.parameters
+        self._shapes = tuple(M.shape for M in (ss.A, ss.B, ss.C, ss.D))
+        dummies = [sympy.Dummy(f"p{i}") for i in range(len(self._params))]
+        swap = dict(zip(self._params, dummies))
+        self._var: list[tuple[int, int, int]] = []
+        self._const: list[tuple[int, int, int, float]] = []
+        exprs = []
+        for k, M in enumerate((ss.A, ss.B, ss.C, ss.D)):
+            for (i, j), ex in sorted(M.todok().items()):
+                if ex.free_symbols:
+                    self._var.append((k, i, j))
+                    exprs.append(ex.xreplace(swap))
+                else:
+                    self._const.append((k, i, j, _real_constant(ex, "ABCD"[k], i, j, model.name)))
+        self._fn = lambdify_cse(dummies, exprs) if exprs else None
+
+    def __repr__(self) -> str:
+        return (f"NumericModel({self._model.name!r}: {len(self.state_names)} states, "
+                f"{len(self._params)} parameters)")
+
+    @property
+    def model(self) -> Model:
+        return self._model
+
+    @property
+    def parameters(self) -> tuple[sympy.Symbol, ...]:
+        """Parameter symbols in the order of :attr:`parameter_names`."""
+        return self._params
+
+    @property
+    def parameter_names(self) -> tuple[str, ...]:
+        return tuple(p.name for p in self._params)
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        return self._model.state_names
+
+    @property
+    def input_names(self) -> tuple[str, ...]:
+        return self._model.input_names
+
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        return self._model.output_names
+
+    def _evaluate(self, columns: list, size: Optional[int]) -> list[np.ndarray]:
+        lead = () if size is None else (size,)
+        mats = [np.zeros(lead + shape) for shape in self._shapes]
+        for k, i, j, value in self._const:
+            mats[k][..., i, j] = value
+        if self._fn is not None:
+            with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+                values = self._fn(*columns)
+            for (k, i, j), value in zip(self._var, values):
+                mats[k][..., i, j] = value
+        return mats
+
+    def _check_finite(self, mats: list[np.ndarray], values: np.ndarray, batch: bool) -> None:
+        for label, M in zip("ABCD", mats):
+            bad = ~np.isfinite(M)
+            if bad.any():
+                idx = tuple(int(v) for v in np.argwhere(bad)[0])
+                where = f"parameter set {idx[0]}: " if batch else ""
+                row = values[idx[0]] if batch else values
+                entry = idx[1:] if batch else idx
+                vals = ", ".join(f"{n}={v:g}" for n, v in zip(self.parameter_names, row))
+                raise ParameterValueError(
+                    f"model {self._model.name!r}: {where}matrix {label} entry {entry} is "
+                    f"{M[idx]} for {vals}; a parameter that divides (mass, inductance, ...) is zero?")
+
+    def plant(self, values: ParameterValues) -> NumericStateSpace:
+        """Evaluate ``A, B, C, D`` at one parameter set.
+
+        Parameters
+        ----------
+        values : mapping of Symbol or str to float
+            Exactly the model's parameters, finite real numbers.
+
+        Raises
+        ------
+        ParameterValueError
+            Missing or unknown names (listed together), non-finite or
+            non-real values, or a non-finite matrix entry.
+        """
+        vec = resolve_parameters(self._params, values, model=self._model.name)
+        mats = self._evaluate([np.float64(v) for v in vec], None)
+        self._check_finite(mats, vec, False)
+        return NumericStateSpace(*mats, self.state_names, self.input_names, self.output_names,
+                                 dict(zip(self.parameter_names, vec.tolist())), self._model.name)
+
+    def batch(self, values: Union[ParameterValues, np.ndarray]) -> BatchStateSpace:
+        """Evaluate ``A, B, C, D`` for ``P`` parameter sets at once.
+
+        Parameters
+        ----------
+        values : mapping or array
+            A mapping of name (or Symbol) to a 1-D array of length ``P`` or a
+            scalar (shared by every set), or a ``(P, k)`` array with columns
+            in the order of :attr:`parameter_names`.
+
+        Returns
+        -------
+        BatchStateSpace
+
+        Raises
+        ------
+        ParameterValueError
+            As :meth:`plant`, naming the first bad parameter set.
+        """
+        arr = resolve_batch(self._params, values, model=self._model.name)
+        size = arr.shape[0]
+        mats = self._evaluate([arr[:, j] for j in range(arr.shape[1])], size)
+        self._check_finite(mats, arr, True)
+        freeze(arr)
+        return BatchStateSpace(*(freeze(M) for M in mats), self.state_names, self.input_names,
+                               self.output_names, self.parameter_names, arr, self._model.name)
+
+
+def _real_constant(ex: sympy.Expr, label: str, i: int, j: int, name: str) -> float:
+    value = complex(ex)
+    if value.imag != 0:
+        raise NumericError(f"model {name!r}: matrix {label} entry ({i}, {j}) = {ex} is not real")
+    return value.real
+
+
+def compile_plant(model: Model) -> NumericModel:
+    """Compile a linear model's ``A, B, C, D`` once; see :class:`NumericModel`.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("mass")
+    >>> g.add(bg.Se("F"), bg.I("m")); _ = g.connect("F", "m")
+    >>> compile_plant(bg.derive(g, outputs={"v": bg.flow("m")})).plant({"m": 4.0}).C
+    array([[0.25]])
+    """
+    return NumericModel(model)
+
+
+def numeric_plant(model: Model, values: ParameterValues) -> NumericStateSpace:
+    """One-off numeric plant: ``compile_plant(model).plant(values)``.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("mass")
+    >>> g.add(bg.Se("F"), bg.I("m")); _ = g.connect("F", "m")
+    >>> numeric_plant(bg.derive(g, outputs={"v": bg.flow("m")}), {"m": 4.0}).eigenvalues()
+    array([0.+0.j])
+    """
+    return NumericModel(model).plant(values)

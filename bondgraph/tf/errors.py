@@ -1,0 +1,52 @@
+"""Exceptions raised by :mod:`bondgraph.tf`.
+
+Every exception derives from :class:`TransferFunctionError`, itself a
+``ValueError``; messages name the argument at fault and say what was expected
+and what was given.
+
+Examples
+--------
+>>> from bondgraph.tf.errors import ShapeError, TransferFunctionError
+>>> issubclass(ShapeError, ValueError) and issubclass(ShapeError, TransferFunctionError)
+True
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "TransferFunctionError",
+    "ShapeError",
+    "UnknownSignalError",
+    "SingularPencilError",
+    "MissingValueError",
+    "InvalidOptionError",
+    "MatrixEntryError",
+]
+
+
+class TransferFunctionError(ValueError):
+    """Base class of the errors raised by :mod:`bondgraph.tf`."""
+
+
+class ShapeError(TransferFunctionError):
+    """A matrix does not have the shape its role (A, B, C, D, E) requires."""
+
+
+class UnknownSignalError(TransferFunctionError):
+    """An input or output name (or index) that the system does not have."""
+
+
+class SingularPencilError(TransferFunctionError):
+    """``det(sE - A)`` is identically zero: the descriptor system has no TF."""
+
+
+class MissingValueError(TransferFunctionError):
+    """A numeric evaluation was asked while some parameters have no value."""
+
+
+class InvalidOptionError(TransferFunctionError):
+    """A keyword option has a value outside the accepted set."""
+
+
+class MatrixEntryError(TransferFunctionError):
+    """A matrix entry cannot be used (contains ``s``, is not finite, ...)."""
