@@ -15,6 +15,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from bondgraph.transfer import (InvalidOptionError, MissingValueError, NumericTF,
+                                ParameterValueError,
                                 PoleZeroTable, ShapeError, SingularPencilError, SymbolicTF,
                                 TransferFunctionError, UnknownSignalError, factored_latex,
                                 matrix_latex, pole_zero_table, state_equations_latex,
@@ -381,6 +382,21 @@ def test_transfer_matrix_shares_denominator():
                        np.sort_complex(G["omega", "V"].poles(vals)))
 
 
+def test_transfer_matrix_latex_and_from_expr():
+    a = sp.Symbol("a", positive=True)
+    G = transfer_matrix([[-a, 1], [0, -a]], sp.eye(2), sp.eye(2), None,
+                        normalize="as-derived")
+    assert G.to_latex() == (r"\mathbf{G}(s) = \frac{1}{s^{2} + 2 a s + a^{2}} "
+                            r"\left[\begin{matrix}s + a & 1 \\ 0 & s + a\end{matrix}\right]")
+    # the (1, 1) entry cancels to 1/(s + a); the shared form keeps (s + a)^2
+    assert G[0, 0].expr == 1 / (s + a)
+    assert G[0, 1] == SymbolicTF.from_expr(1 / (s + a)**2, s, input_name="u2",
+                                           output_name="y1")
+    K, tau = sp.symbols("K tau", positive=True)
+    H = SymbolicTF.from_expr(K / (tau * s + 1), s, normalize="leading-one-denominator")
+    assert H.num_coeffs == (K,) and H.den_coeffs == (tau, 1)
+
+
 # ----------------------------------------------------------- numeric, control
 DC_VALUES = {"L_a": 0.18e-3, "R_a": 2.6, "J": 3.87e-7, "b": 1e-6, "K": 0.00767}
 
@@ -412,6 +428,13 @@ def test_subs_keys_and_missing_values():
     with pytest.raises(MissingValueError, match="missing value.*J.*K") as err:
         G.subs({"L_a": 1, "R_a": 2, "b": 4})
     assert isinstance(err.value, ValueError)
+    with pytest.raises(ParameterValueError, match=r"values\[J\]: expected a finite real"):
+        G.subs({"L_a": 1, "R_a": 2, "J": float("nan"), "b": 4, "K": 5})
+    with pytest.raises(ParameterValueError, match=r"values\[K\]"):
+        G.subs({"L_a": 1, "R_a": 2, "J": 3, "b": 4, "K": 1j})
+    # exact inputs: strings and sympy numbers are fine
+    assert G.subs({"L_a": "1", "R_a": sp.Rational(2), "J": 3, "b": 4, "K": sp.sqrt(25)}) == \
+        G.subs({"L_a": 1, "R_a": 2, "J": 3, "b": 4, "K": 5})
 
 
 # ----------------------------------------------------------- pole/zero table

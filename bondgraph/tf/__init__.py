@@ -21,8 +21,9 @@ Examples
 1/(k + m*s**2)
 """
 
-from .errors import (InvalidOptionError, MatrixEntryError, MissingValueError, ShapeError,
-                     SingularPencilError, TransferFunctionError, UnknownSignalError)
+from .errors import (InvalidOptionError, MatrixEntryError, MissingValueError,
+                     ParameterValueError, ShapeError, SingularPencilError,
+                     TransferFunctionError, UnknownSignalError)
 from .latex import (factored_latex, matrix_latex, numeric_tf_latex, poly_latex,
                     state_equations_latex, state_space_latex, tf_latex)
 from .symbolic import (NORMALIZATIONS, NumericTF, NumericTransferMatrix, SymbolicTF,
@@ -36,5 +37,5 @@ __all__ = [
     "tf_latex", "numeric_tf_latex", "factored_latex", "poly_latex", "matrix_latex",
     "state_equations_latex", "state_space_latex",
     "TransferFunctionError", "ShapeError", "UnknownSignalError", "SingularPencilError",
-    "MissingValueError", "InvalidOptionError", "MatrixEntryError",
+    "MissingValueError", "ParameterValueError", "InvalidOptionError", "MatrixEntryError",
 ]

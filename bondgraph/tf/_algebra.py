@@ -36,7 +36,7 @@ import os
 from collections import defaultdict
 from dataclasses import dataclass
 from fractions import Fraction
-from typing import Any, Iterable, Sequence
+from typing import Any, Sequence
 
 import sympy as sp
 from sympy.polys.polyutils import parallel_dict_from_expr
@@ -717,10 +717,88 @@ def clear_reciprocals(polys: Sequence[Any], enc: EncodedSystem) -> list[SDict]:
     return out
 
 
+def _eval_coeff(d: dict, point: Sequence[int]) -> Fraction:
+    total = Fraction(0)
+    for e, c in d.items():
+        term = Fraction(c)
+        for x, p in zip(point, e):
+            if p:
+                term *= x ** p
+        total += term
+    return total
+
+
+def _coprime_in_s(num: SDict, den: SDict, k: int) -> bool | None:
+    """True when ``num`` and ``den`` provably share no factor involving ``s``.
+
+    Specializes the parameters at an integer point where both leading
+    coefficients (in ``s``) are nonzero: a common factor of s-degree ``d``
+    then stays a common factor of degree ``d`` of the specializations.
+    Returns ``None`` when no such point was found (undecided).
+    """
+    import random
+
+    rng = random.Random(12345)
+    tn, td = max(num), max(den)
+    if tn == 0 or td == 0:
+        return True
+    for _ in range(5):
+        point = [rng.randint(2, 10**6) for _ in range(k)]
+        if _eval_coeff(num[tn], point) == 0 or _eval_coeff(den[td], point) == 0:
+            continue
+        un = [_eval_coeff(num.get(i, {}), point) for i in range(tn, -1, -1)]
+        ud = [_eval_coeff(den.get(i, {}), point) for i in range(td, -1, -1)]
+        x = sp.Dummy("x")
+        Pn = sp.Poly([sp.Rational(c.numerator, c.denominator) for c in un], x, domain=sp.QQ)
+        Pd = sp.Poly([sp.Rational(c.numerator, c.denominator) for c in ud], x, domain=sp.QQ)
+        return Pn.gcd(Pd).degree() == 0
+    return None
+
+
+def _dict_gcd(a: dict, b: dict, ring: Ring, k: int) -> dict:
+    """gcd (up to a constant) of two coefficient dicts in the parameters."""
+    for x, y in ((a, b), (b, a)):
+        if len(x) == 1:
+            (e0, _), = x.items()
+            g = tuple(min([e0[i]] + [e[i] for e in y]) for i in range(k))
+            return {g: 1}
+    pad = (0,) * (ring.nvars - 1 - k)
+    pa = ring.from_terms({(0,) + e + pad: c for e, c in a.items()})
+    pb = ring.from_terms({(0,) + e + pad: c for e, c in b.items()})
+    return {e[1:1 + k]: c for e, c in ring.terms(ring.gcd(pa, pb))}
+
+
+def _cancel_by_specialization(num: SDict, den: SDict, ring: Ring, k: int):
+    """Cheap cancellation when num and den are coprime in ``s`` (else ``None``)."""
+    if not _coprime_in_s(num, den, k):
+        return None
+    g: dict | None = None
+    for d in sorted(list(num.values()) + list(den.values()), key=len):
+        g = d if g is None else _dict_gcd(g, d, ring, k)
+        if all(not any(e) for e in g):
+            return num, den            # only a constant in common
+    if len(g) == 1:                    # a monomial: shift exponents
+        (ge, _), = g.items()
+
+        def div(sd):
+            return {s_: {tuple(x - y for x, y in zip(e, ge)): c for e, c in d.items()}
+                    for s_, d in sd.items()}
+        return div(num), div(den)
+    return None
+
+
 def cancel_common(num: SDict, den: SDict, ring: Ring, k: int) -> tuple[SDict, SDict]:
-    """Divide s-dicts ``num`` and ``den`` by their gcd; ``0/den`` becomes ``0/1``."""
+    """Divide s-dicts ``num`` and ``den`` by their gcd; ``0/den`` becomes ``0/1``.
+
+    With the pure-sympy arithmetic (slow multivariate gcd) a specialization
+    test first proves the common case, no common factor involving ``s``.
+    """
     if not num:
         return {}, {0: {(0,) * k: 1}}
+    if isinstance(ring, _SympyRing) and k:
+        done = _cancel_by_specialization(num, den, ring, k)
+        if done is not None:
+            return done
     pn, pd = from_sdict(num, ring), from_sdict(den, ring)
     g = ring.gcd(pn, pd)
     if ring.is_zero(g) or all(not any(e) for e, _ in ring.terms(g)):

@@ -18,6 +18,7 @@ __all__ = [
     "ShapeError",
     "UnknownSignalError",
     "SingularPencilError",
+    "ParameterValueError",
     "MissingValueError",
     "InvalidOptionError",
     "MatrixEntryError",
@@ -40,7 +41,11 @@ class SingularPencilError(TransferFunctionError):
     """``det(sE - A)`` is identically zero: the descriptor system has no TF."""
 
 
-class MissingValueError(TransferFunctionError):
+class ParameterValueError(TransferFunctionError):
+    """A parameter value given for a numeric evaluation cannot be used."""
+
+
+class MissingValueError(ParameterValueError):
     """A numeric evaluation was asked while some parameters have no value."""
 
 

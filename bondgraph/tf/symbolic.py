@@ -29,7 +29,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from fractions import Fraction
-from numbers import Number
 from typing import Any, Literal, Mapping, Sequence
 
 import numpy as np
@@ -39,9 +38,9 @@ from sympy.polys.polyclasses import DMP
 from sympy.polys.rings import PolyRing
 
 from . import _algebra as alg
-from .errors import (InvalidOptionError, MissingValueError, ShapeError,
+from .errors import (InvalidOptionError, MissingValueError, ParameterValueError, ShapeError,
                      SingularPencilError, UnknownSignalError)
-from .latex import numeric_tf_latex, tf_latex
+from .latex import numeric_tf_latex, poly_latex, tf_latex
 from .tables import PoleZeroTable, pole_zero_table
 
 __all__ = ["SymbolicTF", "NumericTF", "TransferMatrix", "NumericTransferMatrix",
@@ -139,8 +138,9 @@ def _check_options(normalize, method):
 
 def _to_fraction(v, key) -> Fraction:
     """Exact rational value of a parameter (floats read as their decimal repr)."""
+    bad = ParameterValueError(f"values[{key!s}]: expected a finite real number, got {v!r}")
     if isinstance(v, bool):
-        raise MissingValueError(f"values[{key!s}]: expected a real number, got {v!r}")
+        raise bad
     if isinstance(v, (int, np.integer)):
         return Fraction(int(v))
     if isinstance(v, Fraction):
@@ -148,18 +148,19 @@ def _to_fraction(v, key) -> Fraction:
     if isinstance(v, (float, np.floating)):
         x = float(v)
         if not np.isfinite(x):
-            raise MissingValueError(f"values[{key!s}]: expected a finite number, got {x}")
+            raise bad
         return Fraction(repr(x))
-    e = sp.sympify(v)
+    try:
+        e = sp.sympify(v)
+    except (sp.SympifyError, TypeError, ValueError):
+        raise bad from None
     if e.is_Rational:
         return Fraction(int(e.p), int(e.q))
-    if e.is_Float:
+    if e.is_Float and e.is_finite:
         return Fraction(str(e))
     if e.is_number and e.is_real and e.is_finite:
         return Fraction(str(sp.N(e, 40)))
-    if isinstance(v, Number) and not isinstance(v, complex):  # pragma: no cover
-        return Fraction(str(v))
-    raise MissingValueError(f"values[{key!s}]: expected a real number, got {v!r}")
+    raise bad
 
 
 # ============================================================ conversion to sympy
@@ -780,6 +781,28 @@ class TransferMatrix:
             return SymbolicTF(Pn, Pd, self.input_names[j], self.output_names[i])
         return _cancel_pair(self.nums[i][j], self.den, self.input_names[j],
                             self.output_names[i], self.normalize)
+
+    def to_latex(self, *, lhs: bool | str = True) -> str:
+        r"""``G(s) = \frac{1}{den(s)} [num_ij(s)]`` (rows: outputs, columns: inputs).
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> a = sp.Symbol("a", positive=True)
+        >>> transfer_matrix([[-a]], [[1, 2]], [[1]], None).to_latex()
+        '\\mathbf{G}(s) = \\frac{1}{s + a} \\left[\\begin{matrix}1 & 2\\end{matrix}\\right]'
+        """
+        sl = sp.latex(self.s)
+        rows = " \\\\ ".join(" & ".join(poly_latex(n.all_coeffs(), sl) for n in row)
+                               for row in self.nums)
+        body = (f"\\frac{{1}}{{{poly_latex(self.den_coeffs, sl)}}} "
+                f"\\left[\\begin{{matrix}}{rows}\\end{{matrix}}\\right]")
+        if lhs is True:
+            return f"\\mathbf{{G}}({sl}) = {body}"
+        return f"{lhs} = {body}" if lhs else body
+
+    def _repr_latex_(self) -> str:
+        return "$\\displaystyle " + self.to_latex() + "$"
 
     def subs(self, values: Mapping | None = None) -> NumericTransferMatrix:
         """Numeric matrix (uncancelled entries over the shared denominator)."""
