@@ -79,6 +79,26 @@ class SymbolicStateSpace:
         return SymbolicStateSpace(f(self.A), f(self.B), f(self.C), f(self.D),
                                   self.state_names, self.input_names, self.output_names, f(self.E))
 
+    def to_latex(self) -> str:
+        """Matrix form ``E x' = A x + B u``, ``y = C x + D u`` in LaTeX.
+
+        Examples
+        --------
+        >>> import sympy
+        >>> ss = SymbolicStateSpace(sympy.ImmutableMatrix([[-1]]), sympy.ImmutableMatrix([[1]]),
+        ...     sympy.ImmutableMatrix([[1]]), sympy.ImmutableMatrix([[0]]), ("x",), ("u",), ("y",))
+        >>> "\\dot{x}" in ss.to_latex()
+        True
+        """
+        from .tf import state_space_latex
+
+        return state_space_latex(self.A, self.B, self.C, self.D, E=self.E,
+                                 state_names=self.state_names, input_names=self.input_names,
+                                 output_names=self.output_names)
+
+    def _repr_latex_(self) -> str:
+        return "$$" + self.to_latex() + "$$"
+
     def __str__(self) -> str:
         parts = [f"states  {list(self.state_names)}", f"inputs  {list(self.input_names)}",
                  f"outputs {list(self.output_names)}"]
