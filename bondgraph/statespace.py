@@ -87,7 +87,7 @@ class SymbolicStateSpace:
         >>> import sympy
         >>> ss = SymbolicStateSpace(sympy.ImmutableMatrix([[-1]]), sympy.ImmutableMatrix([[1]]),
         ...     sympy.ImmutableMatrix([[1]]), sympy.ImmutableMatrix([[0]]), ("x",), ("u",), ("y",))
-        >>> "\\dot{x}" in ss.to_latex()
+        >>> r"\dot{x}" in ss.to_latex()
         True
         """
         from .tf import state_space_latex
