@@ -80,7 +80,7 @@ class SymbolicStateSpace:
                                   self.state_names, self.input_names, self.output_names, f(self.E))
 
     def to_latex(self) -> str:
-        """Matrix form ``E x' = A x + B u``, ``y = C x + D u`` in LaTeX.
+        r"""Matrix form ``E x' = A x + B u``, ``y = C x + D u`` in LaTeX.
 
         Examples
         --------
