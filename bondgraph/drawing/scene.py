@@ -284,6 +284,11 @@ def build_scene(diag: Diagram, *, wrap: int = 14, title: bool = True) -> Scene:
         width = MARGIN + sum(col_w) + MARGIN - HGAP / 2 + dx + grow_x
         height = top + sum(row_h) - VGAP / 2 + 4 + dy + grow_y
         x0, y0, x1, y1 = _extent(bonds)
+        # labels (a junction's name hangs to its right) must fit on the canvas too
+        x0 = min([x0] + [lb.box[0] for lb in labels])
+        y0 = min([y0] + [lb.box[1] for lb in labels])
+        x1 = max([x1] + [lb.box[0] + lb.box[2] for lb in labels])
+        y1 = max([y1] + [lb.box[1] + lb.box[3] for lb in labels])
         if dx or dy or grow_x or grow_y:
             break
         dx, dy = max(0.0, MARGIN / 2 - x0), max(0.0, top - 4 - y0)
