@@ -218,7 +218,7 @@ class _Scap:
             self.trail = None
 
     def _undo(self) -> None:
-        for k in reversed(self.trail):
+        for k in reversed(self.trail or []):
             b = self.bonds[k]
             for end in (b.tail, b.head):
                 self.undecided[end] += 1
@@ -302,7 +302,8 @@ class _Scap:
             if self.head_gets_effort[k] is None:
                 arbitrary_bonds.append(self.bonds[k].number)
                 self._choose(k, self.bonds[k].head, f"arbitrary choice for bond {k + 1}")
-        integral, derivative = [], []
+        integral: list[str] = []
+        derivative: list[str] = []
         for el in els:
             if el.kind in _STORAGE:
                 (k,) = flat.incidence[el.name]

@@ -33,13 +33,13 @@ Examples
 
 from __future__ import annotations
 
-from typing import Mapping, Optional, Union
+from typing import Mapping, Optional, Union, cast
 
 import networkx as nx
 import sympy
 
 from .causality import AugmentedBondGraph, assign_causality, dependencies
-from .elements import Element
+from .elements import Element, OnePort, TwoPort
 from .errors import AlgebraicLoopError, OutputError
 from .flatten import FlatGraph
 from .graph import BondGraph
@@ -324,7 +324,7 @@ class _Deriver:
             return self.input_of[name]
         if kind == "Sf":
             return -self._sign(name, k) * self.input_of[name]
-        if kind in ("I", "C", "R"):
+        if isinstance(el, OnePort):
             s = self._sign(name, k)
             own = {"I": P_VAR, "C": Q_VAR, "R": F_VAR}[kind]
             if name in self.state_of:  # integral: output from the state
@@ -349,14 +349,14 @@ class _Deriver:
             terms = [self._sign(name, j) * self._inp(2 * j + (1 if strong_in else 0))
                      for j in inc if j != strong]
             return -self._sign(name, strong) * sympy.Add(*terms)
-        if kind in ("TF", "MTF", "GY", "MGY"):
-            mod = el.modulus
+        if isinstance(el, TwoPort):
+            mod = cast(sympy.Expr, el.modulus)     # resolved to an expression by the element
             if kind in ("MTF", "MGY"):
                 mod = self._resolve(mod)
             k_in = inc[0] if self.bonds[inc[0]].head == name else inc[1]
             other = inc[1] if k_in == inc[0] else inc[0]
             x = self._inp(self.inputs[v][0])
-            eta = el.efficiency
+            eta = cast(sympy.Expr, el.efficiency)
             if kind in ("TF", "MTF"):
                 # e1 = n e2 / eta, f2 = n f1 ; or e2 = eta e1 / n, f1 = f2 / n
                 if is_flow:

@@ -42,6 +42,8 @@ class FlatGraph:
     #: element name -> indices (0-based) of its bonds, in order of creation
     incidence: Mapping[str, tuple[int, ...]] = field(repr=False)
     index: Mapping[str, int] = field(repr=False)
+    #: number of each bond of the top-level builder graph -> number of the flat bond it became
+    top_bonds: Mapping[int, int] = field(default_factory=dict, repr=False)
 
     def element(self, name: str) -> Element:
         """The element with this (path) name."""
@@ -73,11 +75,11 @@ def flatten(graph: BondGraph) -> FlatGraph:
     """
     elements: dict[str, Element] = {}
     ports: dict[str, str] = {}  # port path -> graph that owns it
-    bonds: list[list] = []      # [tail, head, alive]
+    bonds: list[list] = []      # [tail, head, alive, top-level bond number or None]
     _collect(graph, "", elements, ports, bonds)
 
     touching: dict[str, list[int]] = {}
-    for k, (t, h, _) in enumerate(bonds):
+    for k, (t, h, _, _) in enumerate(bonds):
         touching.setdefault(t, []).append(k)
         touching.setdefault(h, []).append(k)
 
@@ -92,25 +94,27 @@ def flatten(graph: BondGraph) -> FlatGraph:
                 "parent graph, or replace it with a source)"
             )
         a, b = sorted(ks)
-        ta, ha, _ = bonds[a]
-        tb, hb, _ = bonds[b]
+        ta, ha, _, na = bonds[a]
+        tb, hb, _, nb = bonds[b]
+        top = na if na is not None else nb
         if ha == path and tb == path:
-            bonds[a] = [ta, hb, True]
+            bonds[a] = [ta, hb, True, top]
             bonds[b][2] = False
             touching.setdefault(hb, []).append(a)
         elif ta == path and hb == path:
-            bonds[a] = [tb, ha, True]
+            bonds[a] = [tb, ha, True, top]
             bonds[b][2] = False
             touching.setdefault(tb, []).append(a)
         else:  # both bonds into, or both out of, the port: a 0-junction keeps the signs
             elements[path] = Zero(path.rsplit(".", 1)[-1]).resolved(path)
 
-    live = [(t, h) for t, h, alive in bonds if alive]
-    flat_bonds = tuple(Bond(n, t, h) for n, (t, h) in enumerate(live, start=1))
+    live = [(t, h, top) for t, h, alive, top in bonds if alive]
+    flat_bonds = tuple(Bond(n, t, h) for n, (t, h, _) in enumerate(live, start=1))
+    top_bonds = {top: n for n, (_, _, top) in enumerate(live, start=1) if top is not None}
     incidence: dict[str, list[int]] = {name: [] for name in elements}
-    for k, b in enumerate(flat_bonds):
-        incidence[b.tail].append(k)
-        incidence[b.head].append(k)
+    for k, fb in enumerate(flat_bonds):
+        incidence[fb.tail].append(k)
+        incidence[fb.head].append(k)
     for name, el in elements.items():
         least, most = el.bonds
         n = len(incidence[name])
@@ -127,6 +131,7 @@ def flatten(graph: BondGraph) -> FlatGraph:
         bonds=flat_bonds,
         incidence={n: tuple(v) for n, v in incidence.items()},
         index={n: i for i, n in enumerate(names)},
+        top_bonds=top_bonds,
     )
 
 
@@ -137,8 +142,9 @@ def _collect(graph: BondGraph, prefix: str, elements, ports, bonds) -> None:
             ports[path] = graph.name
         else:
             elements[path] = el.resolved(path)
-    for kind, item in graph._order:
-        if kind == "sub":
+    for item in graph._order:
+        if isinstance(item, str):  # a sub-model, at the moment it was added
             _collect(graph._subgraphs[item], prefix + item + ".", elements, ports, bonds)
         else:
-            bonds.append([prefix + item.tail, prefix + item.head, True])
+            bonds.append([prefix + item.tail, prefix + item.head, True,
+                          None if prefix else item.number])

@@ -77,7 +77,7 @@ class BondGraph:
         self._elements: dict[str, Element] = {}
         self._subgraphs: dict[str, BondGraph] = {}
         self._bonds: list[Bond] = []
-        self._order: list[tuple[str, object]] = []  # ("bond", Bond) | ("sub", name)
+        self._order: list[Union[Bond, str]] = []  # bonds and sub-model names, in order
         self._degree: dict[str, list[Bond]] = {}
 
     # ------------------------------------------------------------------ building
@@ -113,7 +113,7 @@ class BondGraph:
                         "so nothing can connect to it"
                     )
                 self._subgraphs[name] = item.copy()
-                self._order.append(("sub", name))
+                self._order.append(name)
             else:
                 self._elements[name] = item
             self._degree[name] = []
@@ -138,7 +138,7 @@ class BondGraph:
         for end in (t, h):
             self._check_capacity(end, bond)
         self._bonds.append(bond)
-        self._order.append(("bond", bond))
+        self._order.append(bond)
         self._degree[t].append(bond)
         self._degree[h].append(bond)
         return bond

@@ -217,9 +217,9 @@ def beam_fragment(beam: Union[ModalBeam, HubBeamModes], *, name: str = "beam", r
         raise ValueError(f"damping_ratio: expected one value per mode ({n}), got {len(zetas)}")
     data = []
     if isinstance(beam, HubBeamModes):
-        for md, z in zip(beam.modes, zetas):
-            k = md.mass * md.omega**2
-            data.append(ModeData(md.mass, k, 2 * z * md.mass * md.omega, md.hub_angle, md.tip_value))
+        for hm, z in zip(beam.modes, zetas):
+            k = hm.mass * hm.omega**2
+            data.append(ModeData(hm.mass, k, 2 * z * hm.mass * hm.omega, hm.hub_angle, hm.tip_value))
         J0 = beam.total_inertia if rigid else None
         arm = beam.hub_radius + beam.L
     else:

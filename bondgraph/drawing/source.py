@@ -233,7 +233,7 @@ def _boxed(graph: BondGraph, causality: bool) -> Diagram:
     flat_number: dict[int, int] = {}
     if causality:
         aug = assign_causality(graph)
-        flat_number = _top_bonds_in_flat(graph)
+        flat_number = dict(aug.flat.top_bonds)
     subs = {s.name for s in graph.submodels}
     nodes = []
     for kind, item in _element_then_sub_order(graph):
@@ -263,8 +263,8 @@ def _boxed(graph: BondGraph, causality: bool) -> Diagram:
 def _element_then_sub_order(graph: BondGraph):
     for el in graph.elements:
         yield "el", el.name
-    for kind, item in graph._order:
-        if kind == "sub":
+    for item in graph._order:
+        if isinstance(item, str):
             yield "sub", item
 
 
@@ -282,47 +282,3 @@ def _stroke_on_top_bond(tail: str, head: str, fb) -> str:
     lies on the builder bond's tail side and its head on the head side.
     """
     return tail if fb.stroke == fb.tail else head
-
-
-def _top_bonds_in_flat(graph: BondGraph) -> dict[int, int]:
-    """Builder bond number -> flattened bond number, for the top-level bonds.
-
-    Follows :func:`bondgraph.flatten`: bonds listed in creation order with a
-    sub-model's bonds in its place, then each port joins its inner and outer
-    bond into the earlier one (or becomes a 0-junction keeping both).
-    """
-    raw: list[list] = []  # [tail, head, alive, top-level number or None]
-    ports: list[str] = []
-
-    def collect(g: BondGraph, prefix: str, top: bool) -> None:
-        ports.extend(prefix + p for p in g.ports)
-        for kind, item in g._order:
-            if kind == "sub":
-                collect(g._subgraphs[item], prefix + item + ".", False)
-            else:
-                raw.append([prefix + item.tail, prefix + item.head, True,
-                            item.number if top else None])
-
-    collect(graph, "", True)
-    for path in ports:
-        ks = sorted(k for k, (t, h, alive, _) in enumerate(raw) if alive and path in (t, h))
-        if len(ks) != 2:
-            continue
-        a, b = ks
-        ta, ha, _, na = raw[a]
-        tb, hb, _, nb = raw[b]
-        keep = na if na is not None else nb
-        if ha == path and tb == path:
-            raw[a] = [ta, hb, True, keep]
-            raw[b][2] = False
-        elif ta == path and hb == path:
-            raw[a] = [tb, ha, True, keep]
-            raw[b][2] = False
-    out: dict[int, int] = {}
-    number = 0
-    for _, _, alive, top in raw:
-        if alive:
-            number += 1
-            if top is not None:
-                out[top] = number
-    return out
