@@ -137,11 +137,8 @@ def _values(defn, model, params_file: Optional[str], *, complete: bool) -> Optio
     expected = [p.name for p in model.parameters]
     known = set(expected)
     listing = ", ".join(expected) or "(none)"
-    bad_defaults = sorted(set(defn.parameters) - known)
-    if bad_defaults:
-        raise CLIError(f"the model file gives default values for unknown parameters "
-                       f"{', '.join(bad_defaults)}; the model's parameters are: {listing}")
-    values = dict(defn.parameters)
+    # a model file may give defaults for parameters that only some of its variants use
+    values = {n: v for n, v in defn.parameters.items() if n in known}
     if params_file is not None:
         given = load_params(params_file)
         unknown = sorted(set(given) - known)

@@ -36,6 +36,7 @@ import os
 from collections import defaultdict
 from dataclasses import dataclass
 from fractions import Fraction
+from types import ModuleType
 from typing import Any, Sequence
 
 import sympy as sp
@@ -43,6 +44,7 @@ from sympy.polys.polyutils import parallel_dict_from_expr
 
 from .errors import InvalidOptionError, MatrixEntryError
 
+_flint: ModuleType | None
 try:  # python-flint is a declared dependency; keep a pure-sympy fallback anyway
     import flint as _flint
 except ImportError:  # pragma: no cover - exercised only without python-flint
@@ -90,6 +92,23 @@ class Ring:
         """``[(exponents, coefficient)]``; coefficients are ints when integral."""
         raise NotImplementedError
 
+    def is_zero(self, p) -> bool:
+        raise NotImplementedError
+
+    def gcd(self, p, q) -> Any:
+        raise NotImplementedError
+
+    def exquo(self, p, q) -> Any:
+        """Exact quotient ``p / q`` (``q`` must divide ``p``)."""
+        raise NotImplementedError
+
+    def degrees(self, p) -> tuple[int, ...]:
+        """Degree of ``p`` in each variable."""
+        raise NotImplementedError
+
+    def nterms(self, p) -> int:
+        raise NotImplementedError
+
     def gen(self, i: int) -> Any:
         exps = [0] * self.nvars
         exps[i] = 1
@@ -113,6 +132,8 @@ class Ring:
 
 class _FlintRing(Ring):
     def __init__(self, nvars: int):
+        if _flint is None:  # pragma: no cover - make_ring checks this first
+            raise InvalidOptionError("backend: python-flint is not installed")
         self.nvars = nvars
         names = tuple(f"x{i}" for i in range(max(nvars, 1)))
         self.ctx = _flint.fmpq_mpoly_ctx.get(names, "lex")
@@ -672,15 +693,16 @@ def clear_reciprocals(polys: Sequence[Any], enc: EncodedSystem) -> list[SDict]:
         for j in range(q):
             dmax[j] = max(dmax[j], degs[k0 + j])
     # fast path: every base is a single parameter (1/m, 1/L, ...): shift exponents
-    single = []
+    single: list[int | None] = []
     for fp in enc.recip_polys:
         tl = list(ring.terms(fp))
         if len(tl) == 1 and tl[0][1] == 1 and sum(tl[0][0]) == 1:
             single.append(tl[0][0].index(1) - 1)
         else:
             single.append(None)
-    if all(x is not None for x in single):
-        shifts = list(zip(single, dmax, range(k0, k0 + q)))
+    positions = [x for x in single if x is not None]
+    if len(positions) == len(single):
+        shifts = list(zip(positions, dmax, range(k0, k0 + q)))
         out = []
         for p in polys:
             sd: SDict = {}
@@ -709,9 +731,9 @@ def clear_reciprocals(polys: Sequence[Any], enc: EncodedSystem) -> list[SDict]:
         total = ring.zero
         for key, terms in groups.items():
             part = ring.from_terms(terms)
-            for j, e in enumerate(key):
-                if dmax[j] - e:
-                    part = part * fpow(j, dmax[j] - e)
+            for j, ej in enumerate(key):
+                if dmax[j] - ej:
+                    part = part * fpow(j, dmax[j] - ej)
             total = total + part
         out.append(to_sdict(total, ring, k))
     return out
@@ -777,6 +799,8 @@ def _cancel_by_specialization(num: SDict, den: SDict, ring: Ring, k: int):
         g = d if g is None else _dict_gcd(g, d, ring, k)
         if all(not any(e) for e in g):
             return num, den            # only a constant in common
+    if g is None:                      # pragma: no cover - num is never empty here
+        return None
     if len(g) == 1:                    # a monomial: shift exponents
         (ge, _), = g.items()
 
