@@ -63,7 +63,7 @@ import json
 import os
 import tempfile
 from pathlib import Path
-from typing import Any, Callable, Optional, Sequence, Union
+from typing import IO, Any, Callable, Optional, Sequence, Union
 
 import numpy as np
 
@@ -181,7 +181,8 @@ def _write_temp(target: Path, writer: Callable[[Any], None], binary: bool) -> st
         raise ExportError(f"cannot write '{target}': {exc.strerror or exc}",
                           path=str(target), errno=exc.errno) from exc
     try:
-        with os.fdopen(fd, "wb" if binary else "w", **({} if binary else {"encoding": "utf-8"})) as fh:
+        fh: IO[Any] = os.fdopen(fd, "wb") if binary else os.fdopen(fd, "w", encoding="utf-8")
+        with fh:
             writer(fh)
             fh.flush()
             os.fsync(fh.fileno())
@@ -267,7 +268,8 @@ def export_npz(plant: NumericStateSpace, path: PathLike) -> None:
     """
     p = _check_plant(plant)
     pnames = list(p.parameters)
-    data = {
+    # values typed Any: numpy's stub would match ``**data`` to ``allow_pickle: bool`` too
+    data: dict[str, Any] = {
         "A": p.A, "B": p.B, "C": p.C, "D": p.D,
         "state_names": np.array(p.state_names, dtype=str).reshape(-1),
         "input_names": np.array(p.input_names, dtype=str).reshape(-1),
@@ -363,7 +365,8 @@ def load_json(path: PathLike) -> NumericStateSpace:
         mats = [np.array(doc[k], dtype=float).reshape(shape) for k, shape in
                 (("A", (n, n)), ("B", (n, m)), ("C", (p, n)), ("D", (p, m)))]
         params = {str(k): float(v) for k, v in dict(doc.get("parameters", {})).items()}
-        return NumericStateSpace(*mats, tuple(doc["states"]), tuple(doc["inputs"]),
+        A, B, C, D = mats
+        return NumericStateSpace(A, B, C, D, tuple(doc["states"]), tuple(doc["inputs"]),
                                  tuple(doc["outputs"]), params, str(doc.get("model", "")))
     except (TypeError, ValueError) as exc:
         raise ExportError(f"'{target}': malformed {FORMAT_NAME} document: {exc}") from exc

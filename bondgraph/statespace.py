@@ -73,6 +73,10 @@ class SymbolicStateSpace:
     def subs(self, values: Mapping) -> "SymbolicStateSpace":
         """Substitute parameter values (symbols or numbers) in every matrix."""
         sub = {(_sym(self, k) if isinstance(k, str) else k): v for k, v in values.items()}
+        for k, v in sub.items():
+            if isinstance(v, str) or not isinstance(v, (sympy.Basic, int, float)):
+                raise BondGraphError(f"value of {k}: expected a number or sympy expression, "
+                                     f"got {type(v).__name__} {v!r} (text is never parsed)")
         def f(mat):
             return None if mat is None else sympy.ImmutableMatrix(mat.xreplace(
                 {k: sympy.sympify(v) for k, v in sub.items()}))

@@ -402,7 +402,8 @@ class NumericModel:
         vec = resolve_parameters(self._params, values, model=self._model.name)
         mats = self._evaluate([np.float64(v) for v in vec], None)
         self._check_finite(mats, vec, False)
-        return NumericStateSpace(*mats, self.state_names, self.input_names, self.output_names,
+        A, B, C, D = mats
+        return NumericStateSpace(A, B, C, D, self.state_names, self.input_names, self.output_names,
                                  dict(zip(self.parameter_names, vec.tolist())), self._model.name)
 
     def batch(self, values: Union[ParameterValues, np.ndarray]) -> BatchStateSpace:
@@ -429,7 +430,8 @@ class NumericModel:
         mats = self._evaluate([arr[:, j] for j in range(arr.shape[1])], size)
         self._check_finite(mats, arr, True)
         freeze(arr)
-        return BatchStateSpace(*(freeze(M) for M in mats), self.state_names, self.input_names,
+        A, B, C, D = (freeze(M) for M in mats)
+        return BatchStateSpace(A, B, C, D, self.state_names, self.input_names,
                                self.output_names, self.parameter_names, arr, self._model.name)
 
 

@@ -458,7 +458,8 @@ def determinant(M: Sequence[Sequence[Any]], ring: Ring, *, method: str = "auto")
     return _laplace(M, ring, order)
 
 
-def _laplace_plan(pattern, limit):
+def _laplace_plan(pattern: Sequence[Sequence[bool]],
+                  limit: int | None) -> tuple[list[int], int] | None:
     """Column order for the Laplace expansion and its number of ring products.
 
     Returns ``None`` when the expansion would exceed ``limit`` products.
@@ -516,7 +517,7 @@ def _laplace_plan(pattern, limit):
     return order, cost
 
 
-def _laplace(M, ring, order):
+def _laplace(M: Sequence[Sequence[Any]], ring: Ring, order: Sequence[int]) -> Any:
     n = len(M)
     if not order:
         return ring.zero

@@ -16,7 +16,7 @@ Examples
 
 from __future__ import annotations
 
-from typing import Sequence
+from typing import SupportsFloat, Sequence, cast
 
 import numpy as np
 import sympy as sp
@@ -73,7 +73,7 @@ def _combo(terms: Sequence[tuple[object, str]], *, numeric: bool = False,
     parts = []
     for c, mono in terms:
         if numeric:
-            x = float(c)
+            x = float(cast(SupportsFloat, c))  # numeric=True: callers pass numbers
             if x == 0:
                 continue
             neg = x < 0
@@ -258,7 +258,8 @@ def _factors(coeffs: np.ndarray, s: str, digits: int, zeta_omega: bool,
 
 def _join_factors(parts: list[str]) -> str:
     # collapse repeated identical factors into powers
-    out, seen = [], {}
+    out: list[str] = []
+    seen: dict[str, int] = {}
     for p in parts:
         seen[p] = seen.get(p, 0) + 1
     for p, k in seen.items():
@@ -280,15 +281,15 @@ def factored_latex(num: Sequence[float], den: Sequence[float], *, s: str = "s",
     >>> factored_latex([1.0, 0.0], [1.0, 0.2, 4.0])
     '\\frac{s}{\\left(s^{2} + 0.2 s + 4\\right)}'
     """
-    num = np.trim_zeros(np.asarray(num, dtype=float), "f")
-    den = np.trim_zeros(np.asarray(den, dtype=float), "f")
-    if den.size == 0:
+    n_arr = np.trim_zeros(np.asarray(num, dtype=float), "f")
+    d_arr = np.trim_zeros(np.asarray(den, dtype=float), "f")
+    if d_arr.size == 0:
         raise InvalidOptionError("den: expected a nonzero polynomial, got all zeros")
-    if num.size == 0:
+    if n_arr.size == 0:
         return "0"
-    k = num[0] / den[0]
-    nf = _join_factors(_factors(num, s, digits, zeta_omega))
-    df = _join_factors(_factors(den, s, digits, zeta_omega))
+    k = n_arr[0] / d_arr[0]
+    nf = _join_factors(_factors(n_arr, s, digits, zeta_omega))
+    df = _join_factors(_factors(d_arr, s, digits, zeta_omega))
     gain = latex_number(abs(k), digits)
     sign = "-" if k < 0 else ""
     if not df:

@@ -60,6 +60,8 @@ def _as_matrix(M, what: str, *, vector: str = "column") -> sp.ImmutableMatrix:
         arr = M.tolist() if isinstance(M, np.ndarray) else M
         if isinstance(arr, (list, tuple)) and arr and not isinstance(arr[0], (list, tuple)):
             arr = [[x] for x in arr] if vector == "column" else [list(arr)]
+        if _has_text(arr):  # text is never parsed into expressions
+            raise TypeError("an entry is a string; give numbers or sympy expressions")
         return sp.ImmutableMatrix(arr)
     except (TypeError, ValueError, sp.SympifyError) as exc:
         raise ShapeError(f"{what}: expected a matrix (sympy Matrix, nested list or "
@@ -136,11 +138,22 @@ def _check_options(normalize, method):
         raise InvalidOptionError(f"method: expected one of {METHODS}, got {method!r}")
 
 
+def _has_text(obj) -> bool:
+    if isinstance(obj, str):
+        return True
+    return isinstance(obj, (list, tuple)) and any(_has_text(x) for x in obj)
+
+
 def _to_fraction(v, key) -> Fraction:
     """Exact rational value of a parameter (floats read as their decimal repr)."""
     bad = ParameterValueError(f"values[{key!s}]: expected a finite real number, got {v!r}")
     if isinstance(v, bool):
         raise bad
+    if isinstance(v, str):  # a decimal or fraction literal, read by Fraction, never sympify
+        try:
+            return Fraction(v.strip())
+        except (ValueError, ZeroDivisionError):
+            raise bad from None
     if isinstance(v, (int, np.integer)):
         return Fraction(int(v))
     if isinstance(v, Fraction):

@@ -113,7 +113,7 @@ class PoleZeroRow:
         return f"{re} \\pm {latex_number(abs(self.value.imag), digits)}i"
 
 
-def _rows(kind: str, roots: Sequence[complex], tol: float) -> list[PoleZeroRow]:
+def _rows(kind: str, roots: Iterable[complex], tol: float) -> list[PoleZeroRow]:
     roots = snap_roots(roots, tol)
     rows = []
     upper = [r for r in roots if r.imag > 0]
@@ -233,11 +233,11 @@ def pole_zero_table(num: Sequence[float], den: Sequence[float], *, tol: float = 
     """
     if digits < 1:
         raise InvalidOptionError(f"digits: expected an integer >= 1, got {digits!r}")
-    num = np.trim_zeros(np.asarray(num, dtype=float), "f")
-    den = np.trim_zeros(np.asarray(den, dtype=float), "f")
-    if den.size == 0:
+    n_arr = np.trim_zeros(np.asarray(num, dtype=float), "f")
+    d_arr = np.trim_zeros(np.asarray(den, dtype=float), "f")
+    if d_arr.size == 0:
         raise InvalidOptionError("den: expected a nonzero polynomial, got all zeros")
-    poles = np.roots(den) if den.size > 1 else []
-    zeros = np.roots(num) if num.size > 1 else []
+    poles: Iterable[complex] = np.roots(d_arr) if d_arr.size > 1 else []
+    zeros: Iterable[complex] = np.roots(n_arr) if n_arr.size > 1 else []
     rows = _rows("pole", poles, tol) + _rows("zero", zeros, tol)
     return PoleZeroTable(tuple(rows), digits)
