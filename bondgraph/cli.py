@@ -28,7 +28,7 @@ import numbers
 import os
 import sys
 from pathlib import Path
-from typing import Mapping, Optional, Sequence
+from typing import Literal, Mapping, Optional, Sequence, overload
 
 from .errors import BondGraphError
 
@@ -130,6 +130,16 @@ def _load(path: str):
 
     defn = load_model(path)
     return defn, defn.derive()
+
+
+@overload
+def _values(defn, model, params_file: Optional[str], *,
+            complete: Literal[True]) -> dict[str, float]: ...
+
+
+@overload
+def _values(defn, model, params_file: Optional[str], *,
+            complete: bool) -> Optional[dict[str, float]]: ...
 
 
 def _values(defn, model, params_file: Optional[str], *, complete: bool) -> Optional[dict[str, float]]:
@@ -243,8 +253,8 @@ def _cmd_export(args) -> None:
         from .export import export
         from .numeric import compile_plant
 
-        values = _values(defn, model, args.params, complete=True)
-        plant = compile_plant(model).plant(values)
+        full = _values(defn, model, args.params, complete=True)
+        plant = compile_plant(model).plant(full)
         export(plant, out, format=fmt)
         print(f"wrote {out}")
         return

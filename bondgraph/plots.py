@@ -101,7 +101,8 @@ def _response(sys, omega: NDArray[np.float64], what: str) -> NDArray[np.complex1
 
 def _default_omega(systems: Sequence) -> NDArray[np.float64]:
     """Two decades around the poles and zeros of the LTI systems (1e-2..1e3 otherwise)."""
-    mags, nyquist = [], np.inf
+    mags: list[float] = []
+    nyquist = np.inf
     for sys in systems:
         if callable(sys) and not isinstance(sys, control.LTI):
             continue

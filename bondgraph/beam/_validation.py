@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import numbers
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
+from typing import cast
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import BondGraphError
 
@@ -70,10 +72,11 @@ def check_per_mode(value: object, name: str, n: int) -> tuple[float, ...]:
     if isinstance(value, (str, bytes)):
         raise BeamParameterError(
             f"{name}: expected a number >= 0 or a sequence of {n} such numbers, got {value!r}")
-    if np.ndim(value) == 0:
+    # np.ndim takes any object (0 for scalars and non-sequences)
+    if np.ndim(cast(ArrayLike, value)) == 0:
         v = check_float(value, name, allow_zero=True)
         return (v,) * n
-    items = list(value)  # type: ignore[call-overload]
+    items = list(cast(Iterable[object], value))  # ndim >= 1: a sequence or an array
     if len(items) != n:
         raise BeamParameterError(
             f"{name}: expected a number or a sequence of {n} numbers (one per mode), "

@@ -46,7 +46,7 @@ _COMMON_ARGS = ["t", "x", "u", "p", "xdot", "y"]   # arguments of the generated 
 #: identifiers generated C code must not use for model symbols
 C_RESERVED = frozenset(_C_KEYWORDS + _C_MATH + _COMMON_ARGS + ["main", "printf", "size_t"])
 #: ... generated Python code
-PY_RESERVED = frozenset(keyword.kwlist + list(getattr(keyword, "softkwlist", [])) + _COMMON_ARGS + [
+PY_RESERVED = frozenset(list(keyword.kwlist) + list(getattr(keyword, "softkwlist", [])) + _COMMON_ARGS + [
     "math", "abs", "min", "max", "float", "int", "len", "list", "tuple", "dict", "range", "round",
     "derivatives", "outputs", "NAME", "STATE_NAMES", "INPUT_NAMES", "OUTPUT_NAMES",
     "PARAMETER_NAMES", "DEFAULT_PARAMETERS", "_params", "hasattr", "print", "self", "cls"])

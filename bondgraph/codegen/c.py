@@ -127,7 +127,7 @@ def _function_body(pm: PreparedModel, exprs: Sequence[sympy.Expr], out: str, whe
                 lines.append(f"    const double {ident} = {arr}[{k}];")
     for sym, ex in reps:
         lines.append(f"    const double {sym.name} = {_expr_text(printer, ex, where)};")
-    for arr, ids in (("t", ["t"]), ("x", pm.state_ids), ("u", pm.input_ids), ("p", pm.parameter_ids)):
+    for arr, ids in (("t", ("t",)), ("x", pm.state_ids), ("u", pm.input_ids), ("p", pm.parameter_ids)):
         if not (set(ids) & used):
             lines.append(f"    (void){arr};")
     for k, ex in enumerate(reduced):

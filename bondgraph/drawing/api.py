@@ -115,11 +115,10 @@ def repr_svg(obj: Drawable) -> Optional[str]:
     >>> "Port:p" in repr_svg(g)
     True
     """
-    attempts = ({"causality": True, "expand": True}, {"causality": False, "expand": True},
-                {"causality": False, "expand": False})
-    for opts in attempts:
+    attempts = ((True, True), (False, True), (False, False))  # (causality, expand)
+    for causality, expand in attempts:
         try:
-            return draw(obj, **opts)
+            return draw(obj, causality=causality, expand=expand)
         except BondGraphError:
             continue
     return None

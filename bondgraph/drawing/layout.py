@@ -307,7 +307,7 @@ def _longest_path(tree: nx.Graph, sort) -> list[str]:
         return nodes
 
     def farthest(src: str) -> tuple[str, dict]:
-        parent = {src: None}
+        parent: dict[str, str | None] = {src: None}
         dist = {src: 0}
         queue = deque([src])
         while queue:

@@ -213,7 +213,7 @@ def _node(name: str, kind: str, label: str, aug: Optional[AugmentedBondGraph]) -
 
 def _from_flat(flat: FlatGraph, aug: Optional[AugmentedBondGraph]) -> Diagram:
     nodes = tuple(_node(el.name, el.kind, el.label(), aug) for el in flat.elements)
-    in_loop = set()
+    in_loop: set[int] = set()
     if aug is not None:
         for lp in aug.loops:
             in_loop.update(lp)
@@ -243,7 +243,7 @@ def _boxed(graph: BondGraph, causality: bool) -> Diagram:
         else:
             el = graph[item]
             nodes.append(_node(el.name, el.kind, el.label(), aug))
-    in_loop = set()
+    in_loop: set[int] = set()
     if aug is not None:
         for lp in aug.loops:
             in_loop.update(lp)

@@ -74,7 +74,7 @@ def as_signal(x: ArrayLike, name: str, *, min_length: int = 1,
               dtype: type = float) -> NDArray:
     """Return ``x`` as a finite 1-D array of at least ``min_length`` samples."""
     try:
-        arr = np.asarray(x, dtype=dtype)
+        arr: NDArray = np.asarray(x, dtype=dtype)
     except (TypeError, ValueError):
         raise IdentificationError(
             f"{name}: expected a 1-D array of {np.dtype(dtype).name} numbers") from None

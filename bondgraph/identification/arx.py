@@ -114,8 +114,8 @@ class ARXResult:
         return np.sqrt(np.diag(self.covariance))
 
     @property
-    def poles(self) -> NDArray[np.complex128]:
-        """Discrete-time poles (roots of ``z^na A(z)``)."""
+    def poles(self) -> NDArray[np.inexact]:
+        """Discrete-time poles (roots of ``z^na A(z)``; real dtype when all are real)."""
         return np.roots(self.a)
 
     def _check_u(self, u: ArrayLike) -> NDArray:

@@ -72,13 +72,13 @@ class RationalFit:
     weighted_rms_error: float
 
     @property
-    def poles(self) -> NDArray[np.complex128]:
-        """Roots of the fitted denominator."""
+    def poles(self) -> NDArray[np.inexact]:
+        """Roots of the fitted denominator (real dtype when all roots are real)."""
         return np.roots(self.den)
 
     @property
-    def zeros(self) -> NDArray[np.complex128]:
-        """Roots of the fitted numerator."""
+    def zeros(self) -> NDArray[np.inexact]:
+        """Roots of the fitted numerator (real dtype when all roots are real)."""
         return np.roots(self.num) if self.num.size > 1 else np.empty(0, complex)
 
 

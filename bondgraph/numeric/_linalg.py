@@ -69,8 +69,8 @@ def _solve(M: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     try:
         return np.linalg.solve(M, rhs)
     except np.linalg.LinAlgError:
-        flatM = M.reshape((-1,) + M.shape[-2:])
-        flatR = rhs.reshape((-1,) + rhs.shape[-2:])
+        flatM = M.reshape(-1, *M.shape[-2:])
+        flatR = rhs.reshape(-1, *rhs.shape[-2:])
         X = np.empty(flatR.shape, dtype=complex)
         for i in range(flatM.shape[0]):
             try:

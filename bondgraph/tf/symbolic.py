@@ -29,7 +29,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import Any, Literal, Mapping, Sequence
+from typing import Any, Iterable, Literal, Mapping, Sequence
 
 import numpy as np
 import sympy as sp
@@ -189,12 +189,12 @@ class _Converter:
             self.QQr = PolyRing(tuple(params), sp.QQ)
             self.FF = FracField(tuple(params), sp.ZZ)
 
-    def ring_of(self, d: dict[tuple, Fraction]):
+    def ring_of(self, d: dict[tuple, int | Fraction]):
         """Ring element of one coefficient (a dict of parameter exponents)."""
         pad = (0,) * self.q
         return self.ring.from_terms({(0,) + e + pad: c for e, c in d.items()})
 
-    def dict_of(self, p) -> dict[tuple, Fraction]:
+    def dict_of(self, p) -> dict[tuple, int | Fraction]:
         k = self.k
         return {e[1:1 + k]: c for e, c in self.ring.terms(p)}
 
@@ -273,7 +273,7 @@ def _lead_sign(d: dict) -> int:
     return 1 if d[max(d)] > 0 else -1
 
 
-def _content(dicts: Sequence[dict]) -> Fraction:
+def _content(dicts: Iterable[dict]) -> Fraction:
     """Positive rational content: gcd of numerators / lcm of denominators."""
     from math import gcd
     g, L = 0, 1
@@ -819,11 +819,11 @@ class TransferMatrix:
 
     def subs(self, values: Mapping | None = None) -> NumericTransferMatrix:
         """Numeric matrix (uncancelled entries over the shared denominator)."""
-        gens = set(_domain_gens(self.den))
+        gen_set = set(_domain_gens(self.den))
         for row in self.nums:
             for n in row:
-                gens |= set(_domain_gens(n))
-        gens = tuple(sorted(gens, key=sp.default_sort_key))
+                gen_set |= set(_domain_gens(n))
+        gens = tuple(sorted(gen_set, key=sp.default_sort_key))
         vm = _value_map(gens, values)
         nums = tuple(tuple(tuple(_poly_values(n, gens, vm)) for n in row) for row in self.nums)
         return NumericTransferMatrix(nums, tuple(_poly_values(self.den, gens, vm)),
