@@ -11,10 +11,12 @@ set of modal coordinates describes both.
 
 Reading of the equations (seed 001 Eqs. 15-20)
 ----------------------------------------------
-The extracted Eqs. (11), (13) and (17) are garbled (the coupling term ``I_j``
-and ``theta_j`` are not dimensionally consistent as printed).  We use the
-reading that the structure of Eqs. (15)-(16) implies and that the kinetic
-energy of Eq. (7) gives directly: Rayleigh-Ritz with ``n`` clamped-free
+The extracted Eqs. (11), (13) and (17) are partly garbled, and taken
+literally the mass matrix of Eq. (16) is lower-triangular (not symmetric):
+its coupling column ``I_j`` multiplies ``theta''`` in the modal rows but
+nothing couples ``eta_j''`` back into the hub row, so the printed ``M, K``
+just return the ``omega_j`` put into ``K``.  We use the symmetric reading
+that the kinetic energy of Eq. (7) gives directly: Rayleigh-Ritz with ``n`` clamped-free
 assumed modes, ``q = (theta, eta_1..eta_n)``::
 
     M = [[I_T, h^T], [h, diag(m_i)]] (x2 arms, + I_hub),  K = diag(0, k_i) (x2 arms),
@@ -39,10 +41,12 @@ y(L))`` (the paper writes ``L theta``; the tip of an arm clamped at radius
 Against the paper (Table 2: analytical 12.51, 31.11, 62.86 Hz; experimental
 12.0, 33.25, 59.5 Hz): Table 1's parameters give 4.78, 22.36, 61.65 Hz for the
 coupled hub + arms (converged in n, and equal to the exact unconstrained
-modes).  Only the third mode agrees.  The first flexible frequency of any hub
-carrying clamped arms lies between the clamped-free value (3.50 Hz) and the
-pinned-free value (15.3 Hz); 12.51 Hz would need a hub inertia near 0.02
-kg m^2 instead of 0.767.  No parameter is tuned here.
+modes).  Only the third mode agrees.  The first flexible frequency of this
+hub carrying these arms lies between the clamped-arm value (3.50 Hz, hub
+held still) and the massless-hub value (12.94 Hz with r = 0.09 m);
+12.51 Hz would need a hub inertia of 0.0057 kg m^2 instead of 0.767 (and
+the other two printed frequencies would need other inertias, 0.026 and
+0.11 kg m^2).  No parameter is tuned here.
 """
 
 from __future__ import annotations

@@ -37,6 +37,7 @@ import sympy
 from ..model import Model
 from ._compile import lambdify_cse
 from ._linalg import freeze, frequency_response, sorted_eigenvalues
+from .._labels import control_labels
 from .errors import NumericError, ParameterValueError
 from .parameters import ParameterValues, resolve_batch, resolve_parameters
 
@@ -46,36 +47,6 @@ if TYPE_CHECKING:  # imported lazily at run time
 
 __all__ = ["NumericStateSpace", "BatchStateSpace", "NumericModel", "compile_plant",
            "numeric_plant", "control_labels"]
-
-
-def control_labels(names: Sequence[str]) -> list[str]:
-    """Signal names acceptable to python-control, which forbids ``'.'``.
-
-    Dots of hierarchical names become underscores; a clash with another name
-    gets a numeric suffix.
-
-    Examples
-    --------
-    >>> control_labels(["motor.V", "F", "motor_V"])
-    ['motor_V_2', 'F', 'motor_V']
-    """
-    out: list[str] = []
-    taken = {n for n in names if "." not in n}
-    for name in names:
-        label = name.replace(".", "_")
-        if "." in name and label in taken:
-            k = 2
-            while f"{label}_{k}" in taken:
-                k += 1
-            label = f"{label}_{k}"
-        elif label in out:
-            k = 2
-            while f"{label}_{k}" in taken or f"{label}_{k}" in out:
-                k += 1
-            label = f"{label}_{k}"
-        taken.add(label)
-        out.append(label)
-    return out
 
 
 def _matrix(value: Any, label: str) -> np.ndarray:

@@ -37,6 +37,7 @@ from sympy.polys.fields import FracField
 from sympy.polys.polyclasses import DMP
 from sympy.polys.rings import PolyRing
 
+from .._labels import control_labels
 from . import _algebra as alg
 from .errors import (InvalidOptionError, MissingValueError, ParameterValueError, ShapeError,
                      SingularPencilError, UnknownSignalError)
@@ -399,11 +400,15 @@ class NumericTF:
         return pole_zero_table(self.num, self.den, digits=digits)
 
     def to_control(self, *, name: str | None = None):
-        """``control.TransferFunction`` with the input and output names."""
+        """``control.TransferFunction`` with the input and output names.
+
+        python-control forbids dots in names: ``hub.e_in`` becomes ``hub_e_in``.
+        """
         import control
 
-        return control.tf(list(self.num), list(self.den), inputs=[self.input_name],
-                          outputs=[self.output_name], name=name)
+        return control.tf(list(self.num), list(self.den),
+                          inputs=control_labels([self.input_name]),
+                          outputs=control_labels([self.output_name]), name=name)
 
     def to_latex(self, *, form: str = "coefficients", digits: int = 4,
                  lhs: bool | str = True, zeta_omega: bool = False) -> str:
@@ -731,8 +736,8 @@ class NumericTransferMatrix:
 
         num = [[list(_strip(n)) for n in row] for row in self.nums]
         den = [[list(_strip(self.den)) for _ in row] for row in self.nums]
-        return control.tf(num, den, inputs=list(self.input_names),
-                          outputs=list(self.output_names), name=name)
+        return control.tf(num, den, inputs=control_labels(self.input_names),
+                          outputs=control_labels(self.output_names), name=name)
 
 
 @dataclass(frozen=True)
