@@ -151,8 +151,11 @@ def build(n_modes: int = 3, *, tip_mass: float = 0.0, strain_position: float = 0
         params[sym.name] = s_i
         eps.append(sym * bg.displacement(f"arms.k_{i}"))
     theta = bg.displacement("hub")
+    # absolute tip deflection = (r + L) theta + deflection relative to the hub, so that the
+    # hub angle is the only integrator (no second, redundant rigid-body displacement state)
+    tip = (TABLE1["r"] + TABLE1["L"]) * theta + frag.tip_deflection("arms.", relative=True)
     outputs = {
-        "e_ac": Ga * frag.tip_deflection("arms."),
+        "e_ac": Ga * tip,
         "e_p": Gp * theta,
         "e_s": sympy.Add(*eps),
         "e_t": Gt * bg.flow("hub"),
