@@ -145,6 +145,37 @@ class ModelDefinition:
             self._cache["model"] = _derive(self.graph, outputs=dict(self.outputs))
         return self._cache["model"]
 
+    def plant(self, values: Mapping[str, float] | None = None):
+        """Numeric plant at the default parameter values, overridden by ``values``.
+
+        Defaults for parameters the derived model does not use are ignored
+        (a model file may serve several variants); unknown names in
+        ``values`` are an error.
+
+        Examples
+        --------
+        >>> import bondgraph as bg
+        >>> g = bg.BondGraph("m")
+        >>> g.add(bg.Se("F"), bg.One("v"), bg.I("m"), bg.R("b"))
+        >>> for t, h in [("F", "v"), ("v", "m"), ("v", "b")]: _ = g.connect(t, h)
+        >>> d = ModelDefinition(g, {"v": bg.flow("m")}, {"m": 2.0, "b": 4.0})
+        >>> d.plant().A, d.plant({"b": 1.0}).A
+        (array([[-2.]]), array([[-0.5]]))
+        """
+        from .numeric import compile_plant
+
+        model = self.derive()
+        if "compiled" not in self._cache:
+            self._cache["compiled"] = compile_plant(model)
+        used = {p.name for p in model.parameters}
+        merged = {k: v for k, v in self.parameters.items() if k in used}
+        merged.update(values or {})
+        return self._cache["compiled"].plant(merged)
+
+    def to_control(self, values: Mapping[str, float] | None = None):
+        """python-control ``StateSpace`` with labels (see :meth:`plant`)."""
+        return self.plant(values).to_control()
+
 
 def _finite(value: Any, name: str) -> float:
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
