@@ -24,8 +24,42 @@ from .errors import BondGraphError
 __all__ = ["SymbolicStateSpace"]
 
 
+def expected_shape(label: str, n: int, m: int, p: int) -> tuple[int, int]:
+    """Shape of matrix ``label`` ("A".."D") for ``n`` states, ``m`` inputs, ``p`` outputs."""
+    return {"A": (n, n), "B": (n, m), "C": (p, n), "D": (p, m)}[label]
+
+
+def check_matrix_shape(label: str, shape: tuple[int, ...], n: int, m: int, p: int,
+                       error: type[Exception]) -> None:
+    """Raise ``error`` naming the matrix unless ``shape`` is :func:`expected_shape`."""
+    expected = expected_shape(label, n, m, p)
+    if tuple(shape) != expected:
+        raise error(f"state-space matrix {label} has shape {tuple(shape)}; expected {expected} "
+                    f"for {n} states, {m} inputs, {p} outputs")
+
+
+class SignalCounts:
+    """``nstates``, ``ninputs``, ``noutputs`` of a system with named signals (mixin)."""
+
+    state_names: tuple[str, ...]
+    input_names: tuple[str, ...]
+    output_names: tuple[str, ...]
+
+    @property
+    def nstates(self) -> int:
+        return len(self.state_names)
+
+    @property
+    def ninputs(self) -> int:
+        return len(self.input_names)
+
+    @property
+    def noutputs(self) -> int:
+        return len(self.output_names)
+
+
 @dataclass(frozen=True)
-class SymbolicStateSpace:
+class SymbolicStateSpace(SignalCounts):
     """``x' = A x + B u``, ``y = C x + D u`` with symbolic entries and names.
 
     When ``E`` is given the system is in descriptor form ``E x' = A x + B u``.
@@ -41,26 +75,9 @@ class SymbolicStateSpace:
     E: sympy.ImmutableMatrix | None = None
 
     def __post_init__(self) -> None:
-        n, m, p = len(self.state_names), len(self.input_names), len(self.output_names)
-        for label, mat, shape in (("A", self.A, (n, n)), ("B", self.B, (n, m)),
-                                  ("C", self.C, (p, n)), ("D", self.D, (p, m))):
-            if mat.shape != shape:
-                raise BondGraphError(
-                    f"state-space matrix {label} has shape {mat.shape}; expected {shape} "
-                    f"for {n} states, {m} inputs, {p} outputs"
-                )
-
-    @property
-    def nstates(self) -> int:
-        return len(self.state_names)
-
-    @property
-    def ninputs(self) -> int:
-        return len(self.input_names)
-
-    @property
-    def noutputs(self) -> int:
-        return len(self.output_names)
+        for label in "ABCD":
+            check_matrix_shape(label, getattr(self, label).shape, self.nstates, self.ninputs,
+                               self.noutputs, BondGraphError)
 
     @property
     def parameters(self) -> tuple[sympy.Symbol, ...]:

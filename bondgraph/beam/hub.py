@@ -33,7 +33,7 @@ from scipy.linalg import eigh
 from . import _shapes
 from ._validation import BeamParameterError, check_choice, check_float, check_int
 from .characteristic import hub_beam_eigenvalues
-from .modal import NORMALIZATIONS, ModalBeam, _shape_eval
+from .modal import NORMALIZATIONS, ModalBeam, _scale, _shape_eval
 
 __all__ = ["HubMode", "HubBeamModes", "hub_beam_modes", "AssumedModesModel",
            "hub_assumed_modes"]
@@ -205,15 +205,9 @@ def hub_beam_modes(EI: float, rhoA: float, L: float, n_modes: int, *, hub_inerti
             a, psi1, dpsi1, dpsi0 = -a, -psi1, -dpsi1, -dpsi0
         int_sq = _shapes.integrate(lambda x: ev(a, lam, x) ** 2, lam)
         c = eta * dpsi0**2 + int_sq + mu * psi1**2 + j * dpsi1**2
-        if normalization == "mass":
-            s = 1.0 / math.sqrt(arms * rhoA_ * L_ * c)
-        elif normalization == "tip":
-            s = 1.0 / psi1
-        else:
-            s = 1.0 / math.sqrt(int_sq)
+        s, mass = _scale(normalization, arms * rhoA_ * L_ * c, psi1, int_sq)
         modes.append(HubMode(
-            number=k + 1, betaL=lam, omega=lam**2 * math.sqrt(EI_ / (rhoA_ * L_**4)),
-            mass=1.0 if normalization == "mass" else arms * rhoA_ * L_ * s**2 * c,
+            number=k + 1, betaL=lam, omega=lam**2 * math.sqrt(EI_ / (rhoA_ * L_**4)), mass=mass,
             hub_angle=s * dpsi0 / L_, tip_value=s * psi1, L=L_,
             coefficients=tuple(float(v) for v in s * a)))  # type: ignore[arg-type]
     return HubBeamModes(EI=EI_, rhoA=rhoA_, L=L_, n_modes=n, hub_inertia=Jh, hub_radius=r,

@@ -37,6 +37,18 @@ def _shape_eval(coef: tuple[float, ...], lam: float, L: float, x: ArrayLike,
     return float(out) if out.ndim == 0 else out
 
 
+def _scale(normalization: str, gen_mass: float, tip: float, int_sq: float) -> tuple[float, float]:
+    """``(s, m)``: factor scaling a shape to ``normalization`` and the modal mass it then has.
+
+    ``gen_mass`` is the shape's generalised mass (SI), ``tip`` its tip value
+    and ``int_sq`` the integral of its square over ``xi in [0, 1]``.
+    """
+    if normalization == "mass":
+        return 1.0 / math.sqrt(gen_mass), 1.0
+    s = 1.0 / tip if normalization == "tip" else 1.0 / math.sqrt(int_sq)
+    return s, s**2 * gen_mass
+
+
 @dataclass(frozen=True)
 class BeamMode:
     """One flexible mode of a :class:`ModalBeam` (all quantities in SI units).
@@ -281,13 +293,7 @@ def _make_mode(number: int, lam: float, *, root: str, EI: float, rhoA: float, L:
     int_1 = _shapes.integrate(lambda x: ev(a, lam, x), lam)
     int_x = _shapes.integrate(lambda x: x * ev(a, lam, x), lam)
     c = int_sq + mu * psi1**2 + j * dpsi1**2  # generalised mass of psi over rhoA L
-    if normalization == "mass":
-        s = 1.0 / math.sqrt(rhoA * L * c)
-    elif normalization == "tip":
-        s = 1.0 / psi1
-    else:
-        s = 1.0 / math.sqrt(int_sq)
-    mass = 1.0 if normalization == "mass" else s**2 * rhoA * L * c
+    s, mass = _scale(normalization, rhoA * L * c, psi1, int_sq)
     omega = lam**2 * math.sqrt(EI / (rhoA * L**4))
     return BeamMode(
         number=number, betaL=lam, omega=omega, mass=mass, stiffness=mass * omega**2,

@@ -16,18 +16,22 @@ from __future__ import annotations
 import itertools
 import keyword
 import math
+import os
 import re
 from dataclasses import dataclass
-from typing import Iterable, Mapping, Optional, Sequence
+from pathlib import Path
+from typing import Callable, Iterable, Mapping, Optional, Sequence, Union
 
 import sympy
+from sympy.printing.codeprinter import PrintMethodNotImplementedError
 
 from ..errors import BondGraphError
 from ..model import Model
 from ..signals import t as T_SYM
 
 __all__ = ["CodegenError", "PreparedModel", "prepare", "sanitize", "split_cse", "C_RESERVED",
-           "PY_RESERVED", "M_RESERVED", "check_identifier", "header_lines"]
+           "PY_RESERVED", "M_RESERVED", "check_identifier", "header_lines", "TargetPrinter",
+           "write_text"]
 
 
 class CodegenError(BondGraphError, ValueError):
@@ -211,3 +215,36 @@ def header_lines(pm: PreparedModel, *, index_base: int, xname: str = "x", uname:
 
 def _num(value: float) -> str:
     return repr(float(value)) if math.isfinite(value) else str(value)
+
+
+class TargetPrinter:
+    """Code-printer mixin: doubles printed exactly; a function the target lacks is an error.
+
+    Subclasses set ``missing``, how the error words the lack (``"C has no function"``).
+    """
+
+    missing = "no function"
+
+    def _print_Float(self, expr) -> str:
+        return repr(float(expr))
+
+    def code(self, expr: sympy.Expr, where: str) -> str:
+        """``doprint(expr)``; a missing function is a :class:`CodegenError` naming ``where``."""
+        try:
+            return self.doprint(expr)  # type: ignore[attr-defined]
+        except PrintMethodNotImplementedError as exc:
+            first = str(exc).split("\n")[0]
+            raise CodegenError(f"{where}: {self.missing} for part of {expr}: {first}") from exc
+
+
+def write_text(path: Union[str, "os.PathLike[str]"], suffix: str, language: str,
+               text_for: Callable[[Path], str]) -> Path:
+    """Write ``text_for(path)`` to ``path`` (which must end in ``suffix``) atomically."""
+    from ..export import atomic_write
+
+    p = Path(os.fspath(path))
+    if p.suffix != suffix:
+        raise CodegenError(f"{language} output '{p}' must end in {suffix}")
+    text = text_for(p)
+    atomic_write(p, lambda fh: fh.write(text), binary=False)
+    return p

@@ -54,23 +54,24 @@ from typing import Mapping, Optional, Sequence, Union
 
 import sympy
 from sympy.printing.c import C99CodePrinter
-from sympy.printing.codeprinter import PrintMethodNotImplementedError
 
 from ..model import Model
-from ._common import (C_RESERVED, CodegenError, PreparedModel, check_identifier, header_lines,
-                      prepare, split_cse)
+from ._common import (C_RESERVED, CodegenError, PreparedModel, TargetPrinter, check_identifier,
+                      header_lines, prepare, split_cse)
 
 __all__ = ["CCode", "generate_c", "write_c"]
 
 
-class _Printer(C99CodePrinter):
+class _Printer(TargetPrinter, C99CodePrinter):
     """C99 printer: doubles printed exactly (shortest repr), unknown functions refused."""
+
+    missing = "C has no function"
 
     def __init__(self) -> None:
         super().__init__({"strict": True, "error_on_reserved": True})
 
     def _print_Float(self, expr) -> str:
-        text = repr(float(expr))
+        text = super()._print_Float(expr)
         return text if any(c in text for c in ".en") else text + ".0"
 
 
@@ -106,14 +107,6 @@ class CCode:
     identifiers: Mapping[str, str]
 
 
-def _expr_text(printer: _Printer, expr: sympy.Expr, where: str) -> str:
-    try:
-        return printer.doprint(expr)
-    except PrintMethodNotImplementedError as exc:
-        first = str(exc).split("\n")[0]
-        raise CodegenError(f"{where}: C has no function for part of {expr}: {first}") from exc
-
-
 def _function_body(pm: PreparedModel, exprs: Sequence[sympy.Expr], out: str, where: str) -> list[str]:
     printer = _Printer()
     reps, reduced = split_cse(exprs, pm.taken)
@@ -126,12 +119,12 @@ def _function_body(pm: PreparedModel, exprs: Sequence[sympy.Expr], out: str, whe
             if ident in used:
                 lines.append(f"    const double {ident} = {arr}[{k}];")
     for sym, ex in reps:
-        lines.append(f"    const double {sym.name} = {_expr_text(printer, ex, where)};")
+        lines.append(f"    const double {sym.name} = {printer.code(ex, where)};")
     for arr, ids in (("t", ("t",)), ("x", pm.state_ids), ("u", pm.input_ids), ("p", pm.parameter_ids)):
         if not (set(ids) & used):
             lines.append(f"    (void){arr};")
     for k, ex in enumerate(reduced):
-        lines.append(f"    {out}[{k}] = {_expr_text(printer, ex, where)};")
+        lines.append(f"    {out}[{k}] = {printer.code(ex, where)};")
     if not reduced:
         lines.append(f"    (void){out};")
     return lines

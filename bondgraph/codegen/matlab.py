@@ -34,32 +34,22 @@ from pathlib import Path
 from typing import Mapping, Optional, Sequence, Union
 
 import sympy
-from sympy.printing.codeprinter import PrintMethodNotImplementedError
 from sympy.printing.octave import OctaveCodePrinter
 
 from ..model import Model
-from ._common import (M_RESERVED, CodegenError, PreparedModel, check_identifier, header_lines, prepare,
-                      split_cse)
+from ._common import (M_RESERVED, PreparedModel, TargetPrinter, check_identifier, header_lines,
+                      prepare, split_cse, write_text)
 
 __all__ = ["generate_matlab", "write_matlab"]
 
 
-class _Printer(OctaveCodePrinter):
+class _Printer(TargetPrinter, OctaveCodePrinter):
     """Octave printer: doubles printed exactly; unknown functions refused."""
+
+    missing = "no MATLAB function"
 
     def __init__(self) -> None:
         super().__init__({"strict": True, "error_on_reserved": True, "inline": True})
-
-    def _print_Float(self, expr) -> str:
-        return repr(float(expr))
-
-
-def _text(printer: _Printer, expr: sympy.Expr, where: str) -> str:
-    try:
-        return printer.doprint(expr)
-    except PrintMethodNotImplementedError as exc:
-        first = str(exc).split("\n")[0]
-        raise CodegenError(f"{where}: no MATLAB function for part of {expr}: {first}") from exc
 
 
 def _cell(names: Sequence[str]) -> str:
@@ -71,9 +61,9 @@ def _assignments(pm: PreparedModel, exprs: Sequence[sympy.Expr], out: str, where
     reps, reduced = split_cse(exprs, pm.taken)
     lines = [f"{out} = zeros({len(reduced)}, 1);"]
     for sym, ex in reps:
-        lines.append(f"{sym.name} = {_text(printer, ex, where)};")
+        lines.append(f"{sym.name} = {printer.code(ex, where)};")
     for k, ex in enumerate(reduced):
-        lines.append(f"{out}({k + 1}) = {_text(printer, ex, where)};")
+        lines.append(f"{out}({k + 1}) = {printer.code(ex, where)};")
     return lines
 
 
@@ -143,11 +133,5 @@ def write_matlab(model: Model, path: Union[str, "os.PathLike[str]"], *,
     ExportError
         If the file cannot be written.
     """
-    from ..export import atomic_write
-
-    p = Path(os.fspath(path))
-    if p.suffix != ".m":
-        raise CodegenError(f"MATLAB output '{p}' must end in .m")
-    text = generate_matlab(model, name=p.stem, defaults=defaults)
-    atomic_write(p, lambda fh: fh.write(text), binary=False)
-    return p
+    return write_text(path, ".m", "MATLAB",
+                      lambda p: generate_matlab(model, name=p.stem, defaults=defaults))

@@ -33,31 +33,22 @@ from pathlib import Path
 from typing import Mapping, Optional, Sequence, Union
 
 import sympy
-from sympy.printing.codeprinter import PrintMethodNotImplementedError
 from sympy.printing.pycode import PythonCodePrinter
 
 from ..model import Model
-from ._common import PY_RESERVED, CodegenError, PreparedModel, header_lines, prepare, split_cse
+from ._common import (PY_RESERVED, PreparedModel, TargetPrinter, header_lines, prepare, split_cse,
+                      write_text)
 
 __all__ = ["generate_python", "write_python"]
 
 
-class _Printer(PythonCodePrinter):
+class _Printer(TargetPrinter, PythonCodePrinter):
     """Python printer using :mod:`math`; floats printed exactly; unknown functions refused."""
+
+    missing = "no Python math function"
 
     def __init__(self) -> None:
         super().__init__({"strict": True, "error_on_reserved": True, "fully_qualified_modules": True})
-
-    def _print_Float(self, expr) -> str:
-        return repr(float(expr))
-
-
-def _text(printer: _Printer, expr: sympy.Expr, where: str) -> str:
-    try:
-        return printer.doprint(expr)
-    except PrintMethodNotImplementedError as exc:
-        first = str(exc).split("\n")[0]
-        raise CodegenError(f"{where}: no Python math function for part of {expr}: {first}") from exc
 
 
 def _unpack(ids: Sequence[str], source: str) -> list[str]:
@@ -76,8 +67,8 @@ def _function(pm: PreparedModel, fname: str, exprs: Sequence[sympy.Expr], doc: s
     lines += _unpack(pm.input_ids, "u")
     lines += _unpack(pm.parameter_ids, "_params(p)")
     for sym, ex in reps:
-        lines.append(f"    {sym.name} = {_text(printer, ex, where)}")
-    items = ", ".join(_as_float(_text(printer, ex, where)) for ex in reduced)
+        lines.append(f"    {sym.name} = {printer.code(ex, where)}")
+    items = ", ".join(_as_float(printer.code(ex, where)) for ex in reduced)
     lines.append(f"    return [{items}]")
     return lines
 
@@ -139,11 +130,4 @@ def write_python(model: Model, path: Union[str, "os.PathLike[str]"], *,
     ------
     CodegenError, ExportError
     """
-    from ..export import atomic_write
-
-    p = Path(os.fspath(path))
-    if p.suffix != ".py":
-        raise CodegenError(f"Python output '{p}' must end in .py")
-    text = generate_python(model, defaults=defaults)
-    atomic_write(p, lambda fh: fh.write(text), binary=False)
-    return p
+    return write_text(path, ".py", "Python", lambda p: generate_python(model, defaults=defaults))

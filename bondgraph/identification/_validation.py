@@ -1,11 +1,11 @@
-"""Exception type and argument checks shared by the identification modules."""
+"""Exception type, argument checks and read-only results shared by the identification modules."""
 
 from __future__ import annotations
 
 import numbers
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike, DTypeLike, NDArray
 
 __all__ = ["IdentificationError"]
 
@@ -97,3 +97,10 @@ def check_same_length(a: NDArray, name_a: str, b: NDArray, name_b: str) -> None:
         raise IdentificationError(
             f"{name_b}: expected the same length as {name_a} ({a.shape[0]}), "
             f"got {b.shape[0]}")
+
+
+def readonly_copy(x: ArrayLike, dtype: DTypeLike = float) -> NDArray:
+    """A read-only copy of ``x`` as an array of ``dtype`` (for frozen result objects)."""
+    arr = np.array(x, dtype=dtype, copy=True)
+    arr.setflags(write=False)
+    return arr

@@ -26,8 +26,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.signal import lfilter
 
-from ._validation import (IdentificationError, as_signal, check_int,
-                          check_positive_float, check_same_length)
+from ._validation import (IdentificationError, as_signal, check_int, check_positive_float,
+                          check_same_length, readonly_copy)
 from .conversion import d2c_zoh
 
 __all__ = ["ARXResult", "arx", "fit_percent"]
@@ -64,12 +64,6 @@ def fit_percent(y: ArrayLike, y_model: ArrayLike) -> float:
     if denom == 0:
         raise IdentificationError("y: expected a non-constant signal (fit is undefined)")
     return float(100.0 * (1.0 - np.linalg.norm(y - y_model) / denom))
-
-
-def _readonly(x: NDArray) -> NDArray:
-    x = np.array(x, dtype=float, copy=True)
-    x.setflags(write=False)
-    return x
 
 
 @dataclass(frozen=True, eq=False)
@@ -282,6 +276,6 @@ def arx(y: ArrayLike, u: ArrayLike, *, na: int, nb: int, nk: int = 1,
 
     a = np.concatenate(([1.0], theta[:na]))
     b = np.concatenate((np.zeros(nk), theta[na:]))
-    return ARXResult(a=_readonly(a), b=_readonly(b), na=na, nb=nb, nk=nk, dt=dt,
-                     parameters=_readonly(theta), covariance=_readonly(cov),
+    return ARXResult(a=readonly_copy(a), b=readonly_copy(b), na=na, nb=nb, nk=nk, dt=dt,
+                     parameters=readonly_copy(theta), covariance=readonly_copy(cov),
                      noise_variance=sigma2, n_equations=int(n_eq))

@@ -23,16 +23,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.signal import csd, find_peaks, welch
 
-from ._validation import (IdentificationError, as_signal, check_int,
-                          check_positive_float, check_same_length)
+from ._validation import (IdentificationError, as_signal, check_int, check_positive_float,
+                          check_same_length, readonly_copy)
 
 __all__ = ["FRFResult", "estimate_frf", "SpectralPeaks", "find_modal_peaks"]
-
-
-def _readonly(x: NDArray, dtype: Any = float) -> NDArray:
-    x = np.array(x, dtype=dtype, copy=True)
-    x.setflags(write=False)
-    return x
 
 
 @dataclass(frozen=True, eq=False)
@@ -170,10 +164,10 @@ def estimate_frf(x: ArrayLike, y: ArrayLike, *, fs: float,
     h1 = np.where(gxx > 0, h1, np.nan)
     h2 = np.where(np.abs(gxy) > 0, h2, np.nan)
     coh = np.where((gxx > 0) & (gyy > 0), np.clip(coh, 0.0, 1.0), 0.0)
-    return FRFResult(frequencies=_readonly(f), h1=_readonly(h1, complex),
-                     h2=_readonly(h2, complex), coherence=_readonly(coh),
-                     gxx=_readonly(gxx), gyy=_readonly(gyy),
-                     gxy=_readonly(gxy, complex), fs=fs, nperseg=nperseg,
+    return FRFResult(frequencies=readonly_copy(f), h1=readonly_copy(h1, complex),
+                     h2=readonly_copy(h2, complex), coherence=readonly_copy(coh),
+                     gxx=readonly_copy(gxx), gyy=readonly_copy(gyy),
+                     gxy=readonly_copy(gxy, complex), fs=fs, nperseg=nperseg,
                      noverlap=noverlap, n_segments=int(n_segments), window=window)
 
 
@@ -290,5 +284,5 @@ def find_modal_peaks(frequencies: ArrayLike, spectrum: ArrayLike, *,
                     if abs(df) <= max(f[k] - f[k - 1], f[k + 1] - f[k]):
                         freqs[j] = f[k] + df
                         vals[j] = 10.0 ** ((c0 + c1 * df + c2 * df * df) / 10.0)
-    return SpectralPeaks(frequencies=_readonly(freqs), values=_readonly(vals),
-                         indices=_readonly(idx, np.int64), prominences=_readonly(prom))
+    return SpectralPeaks(frequencies=readonly_copy(freqs), values=readonly_copy(vals),
+                         indices=readonly_copy(idx, np.int64), prominences=readonly_copy(prom))

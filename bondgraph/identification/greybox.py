@@ -44,7 +44,7 @@ from ..model import Model
 from ..numeric import NumericModel, NumericStateSpace, compile_plant
 from ..numeric.errors import NumericError
 from ..numeric.plant import control_labels
-from ._validation import IdentificationError, check_positive_float
+from ._validation import IdentificationError, check_positive_float, readonly_copy
 from .frf import FRFResult
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -61,12 +61,6 @@ _RANK_RTOL = 1e-5
 
 #: Relative step of the central differences for the final Jacobian.
 _JAC_STEP = 1e-5
-
-
-def _readonly(x: ArrayLike, dtype: Any = float) -> NDArray:
-    arr = np.array(x, dtype=dtype, copy=True)
-    arr.setflags(write=False)
-    return arr
 
 
 def _finite_array(x: ArrayLike, name: str, *, dtype: Any = float, ndim: tuple[int, ...] = (1, 2)
@@ -130,8 +124,8 @@ class TimeData:
                 f"y: expected the same number of samples as u ({u.shape[0]}), got {y.shape[0]}")
         if u.shape[0] < 2:
             raise IdentificationError(f"u: expected at least 2 samples, got {u.shape[0]}")
-        object.__setattr__(self, "u", _readonly(u))
-        object.__setattr__(self, "y", _readonly(y))
+        object.__setattr__(self, "u", readonly_copy(u))
+        object.__setattr__(self, "y", readonly_copy(y))
         object.__setattr__(self, "dt", check_positive_float(self.dt, "dt"))
 
     @property
@@ -190,9 +184,9 @@ class FrequencyData:
                     f"weights: expected the same length as omega ({w.size}), got {wt.size}")
             if np.any(wt < 0) or not np.any(wt > 0):
                 raise IdentificationError("weights: expected non-negative values, not all zero")
-        object.__setattr__(self, "omega", _readonly(w))
-        object.__setattr__(self, "response", _readonly(h, complex))
-        object.__setattr__(self, "weights", _readonly(wt))
+        object.__setattr__(self, "omega", readonly_copy(w))
+        object.__setattr__(self, "response", readonly_copy(h, complex))
+        object.__setattr__(self, "weights", readonly_copy(wt))
 
     @classmethod
     def from_frf(cls, frf: FRFResult, *, fmin: float | None = None, fmax: float | None = None,
@@ -853,11 +847,11 @@ def greybox_fit(model: Model | NumericModel, data: TimeData | FrequencyData | FR
         std_errors=MappingProxyType(dict(zip(free, se.tolist()))),
         confidence_intervals=MappingProxyType(
             {n: (float(v - tq * s), float(v + tq * s)) for n, v, s in zip(free, p_hat, se)}),
-        covariance=_readonly(cov),
+        covariance=readonly_copy(cov),
         parameters=MappingProxyType(ordered),
         initial=MappingProxyType(dict(zip(free, p0.tolist()))),
-        residuals=_readonly(residuals, residuals.dtype),
-        fit_percent=_readonly(fits),
+        residuals=readonly_copy(residuals, residuals.dtype),
+        fit_percent=readonly_copy(fits),
         noise_variance=sigma2, dof=int(dof), rank=rank, kind=data_kind,
         input_names=in_names, output_names=tuple(nm.output_names[i] for i in outs),
         plant=plant_at(p_hat), success=bool(sol.success), message=str(sol.message),

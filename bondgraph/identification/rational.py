@@ -30,16 +30,10 @@ import control
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._validation import (IdentificationError, as_signal, check_int,
-                          check_positive_float, check_same_length)
+from ._validation import (IdentificationError, as_signal, check_int, check_positive_float,
+                          check_same_length, readonly_copy)
 
 __all__ = ["RationalFit", "fit_rational", "fit_rational_detailed"]
-
-
-def _readonly(x: NDArray, dtype: type = float) -> NDArray:
-    x = np.array(x, dtype=dtype, copy=True)
-    x.setflags(write=False)
-    return x
 
 
 @dataclass(frozen=True, eq=False)
@@ -231,7 +225,7 @@ def fit_rational_detailed(omega: ArrayLike, h: ArrayLike, *, num_order: int,
         model = np.polyval(num, s_full) / np.polyval(den, s_full)
     err = float(np.sqrt(np.sum(w * np.abs(h - model) ** 2) / np.sum(w)))
     tf = control.tf(num, den)
-    return RationalFit(tf=tf, num=_readonly(num), den=_readonly(den),
+    return RationalFit(tf=tf, num=readonly_copy(num), den=readonly_copy(den),
                        iterations=iterations, converged=converged,
                        reflected_poles=reflected, weighted_rms_error=err)
 

@@ -35,6 +35,7 @@ import numpy as np
 import sympy
 
 from ..model import Model
+from ..statespace import SignalCounts, check_matrix_shape, expected_shape
 from ._compile import lambdify_cse
 from ._linalg import freeze, frequency_response, sorted_eigenvalues
 from .._labels import control_labels
@@ -57,7 +58,7 @@ def _matrix(value: Any, label: str) -> np.ndarray:
 
 
 @dataclass(frozen=True, eq=False)
-class NumericStateSpace:
+class NumericStateSpace(SignalCounts):
     """``x' = A x + B u``, ``y = C x + D u`` with numbers and names.
 
     Parameters
@@ -103,13 +104,11 @@ class NumericStateSpace:
         names = tuple(tuple(str(s) for s in getattr(self, f)) for f in
                       ("state_names", "input_names", "output_names"))
         n, m, p = (len(x) for x in names)
-        for label, shape in (("A", (n, n)), ("B", (n, m)), ("C", (p, n)), ("D", (p, m))):
+        for label in "ABCD":
             raw = getattr(self, label)
-            arr = _matrix(np.reshape(raw, shape) if np.size(raw) == 0 else raw, label)
-            if arr.shape != shape:
-                raise NumericError(
-                    f"state-space matrix {label} has shape {arr.shape}; expected {shape} "
-                    f"for {n} states, {m} inputs, {p} outputs")
+            arr = _matrix(np.reshape(raw, expected_shape(label, n, m, p)) if np.size(raw) == 0
+                          else raw, label)
+            check_matrix_shape(label, arr.shape, n, m, p, NumericError)
             object.__setattr__(self, label, arr)
         for f, value in zip(("state_names", "input_names", "output_names"), names):
             object.__setattr__(self, f, value)
@@ -119,18 +118,6 @@ class NumericStateSpace:
     def __repr__(self) -> str:
         return (f"NumericStateSpace({self.name!r}: {self.nstates} states, {self.ninputs} inputs, "
                 f"{self.noutputs} outputs)")
-
-    @property
-    def nstates(self) -> int:
-        return len(self.state_names)
-
-    @property
-    def ninputs(self) -> int:
-        return len(self.input_names)
-
-    @property
-    def noutputs(self) -> int:
-        return len(self.output_names)
 
     def eigenvalues(self) -> np.ndarray:
         """Eigenvalues of ``A`` (the poles), sorted by real then imaginary part."""
@@ -255,7 +242,38 @@ class BatchStateSpace:
         return frequency_response(self.A, self.B, self.C, self.D, omega)
 
 
-class NumericModel:
+class _CompiledModel:
+    """A derived :class:`Model` and its signal and parameter names (base of the compiled forms)."""
+
+    def __init__(self, model: Model) -> None:
+        if not isinstance(model, Model):
+            raise NumericError("expected a bondgraph Model (from bondgraph.derive); "
+                               f"got {type(model).__name__}")
+        self._model = model
+        self._params: tuple[sympy.Symbol, ...] = model.parameters
+
+    @property
+    def model(self) -> Model:
+        return self._model
+
+    @property
+    def parameter_names(self) -> tuple[str, ...]:
+        return tuple(p.name for p in self._params)
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        return self._model.state_names
+
+    @property
+    def input_names(self) -> tuple[str, ...]:
+        return self._model.input_names
+
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        return self._model.output_names
+
+
+class NumericModel(_CompiledModel):
     """A linear model's ``A, B, C, D`` compiled to numpy once, for repeated evaluation.
 
     Parameters
@@ -281,12 +299,8 @@ class NumericModel:
     """
 
     def __init__(self, model: Model) -> None:
-        if not isinstance(model, Model):
-            raise NumericError("expected a bondgraph Model (from bondgraph.derive); "
-                               f"got {type(model).__name__}")
+        super().__init__(model)
         ss = model.state_space()
-        self._model = model
-        self._params: tuple[sympy.Symbol, ...] = model.parameters
         self._shapes = tuple(M.shape for M in (ss.A, ss.B, ss.C, ss.D))
         dummies = [sympy.Dummy(f"p{i}") for i in range(len(self._params))]
         swap = dict(zip(self._params, dummies))
@@ -307,29 +321,9 @@ class NumericModel:
                 f"{len(self._params)} parameters)")
 
     @property
-    def model(self) -> Model:
-        return self._model
-
-    @property
     def parameters(self) -> tuple[sympy.Symbol, ...]:
         """Parameter symbols in the order of :attr:`parameter_names`."""
         return self._params
-
-    @property
-    def parameter_names(self) -> tuple[str, ...]:
-        return tuple(p.name for p in self._params)
-
-    @property
-    def state_names(self) -> tuple[str, ...]:
-        return self._model.state_names
-
-    @property
-    def input_names(self) -> tuple[str, ...]:
-        return self._model.input_names
-
-    @property
-    def output_names(self) -> tuple[str, ...]:
-        return self._model.output_names
 
     def _evaluate(self, columns: list, size: Optional[int]) -> list[np.ndarray]:
         lead = () if size is None else (size,)

@@ -34,7 +34,7 @@ from ._compile import lambdify_cse
 from ._linalg import freeze
 from .errors import NumericError, SimulationError
 from .parameters import ParameterValues, resolve_parameters
-from .plant import control_labels
+from .plant import _CompiledModel, control_labels
 
 if TYPE_CHECKING:  # imported lazily at run time
     import control
@@ -47,7 +47,7 @@ InputSpec = Union[None, float, Sequence[float], np.ndarray, Callable[[float], An
                   tuple[np.ndarray, np.ndarray]]
 
 
-class NumericDynamics:
+class NumericDynamics(_CompiledModel):
     """``f(t, x, u, p)`` and ``g(t, x, u, p)`` of a model compiled to numpy once.
 
     Works for nonlinear and time-varying models.  ``p`` is the vector of
@@ -78,17 +78,13 @@ class NumericDynamics:
     """
 
     def __init__(self, model: Model) -> None:
-        if not isinstance(model, Model):
-            raise NumericError("expected a bondgraph Model (from bondgraph.derive); "
-                               f"got {type(model).__name__}")
+        super().__init__(model)
         if model.input_derivatives:
             raise NumericError(
                 f"model {model.name!r}: the equations use time derivatives of inputs "
                 f"({', '.join(s.name for s in model.input_derivatives)}); they cannot be simulated "
                 "from input values alone -- drive that storage element through a compliance or "
                 "resistance instead")
-        self._model = model
-        self._params = model.parameters
         tt = sympy.Dummy("t")
         xs = [sympy.Dummy(f"x{i}") for i in range(len(model.states))]
         us = [sympy.Dummy(f"u{i}") for i in range(len(model.inputs))]
@@ -103,28 +99,8 @@ class NumericDynamics:
         return f"NumericDynamics({self._model.name!r}: {len(self.state_names)} states)"
 
     @property
-    def model(self) -> Model:
-        return self._model
-
-    @property
     def name(self) -> str:
         return self._model.name
-
-    @property
-    def state_names(self) -> tuple[str, ...]:
-        return self._model.state_names
-
-    @property
-    def input_names(self) -> tuple[str, ...]:
-        return self._model.input_names
-
-    @property
-    def output_names(self) -> tuple[str, ...]:
-        return self._model.output_names
-
-    @property
-    def parameter_names(self) -> tuple[str, ...]:
-        return tuple(p.name for p in self._params)
 
     def parameter_vector(self, values: ParameterValues) -> np.ndarray:
         """Checked parameter values in order (see :func:`~bondgraph.numeric.resolve_parameters`)."""

@@ -16,12 +16,13 @@ Examples
 
 from __future__ import annotations
 
-from typing import SupportsFloat, Sequence, cast
+from typing import Sequence
 
 import numpy as np
 import sympy as sp
 from sympy.printing.conventions import split_super_sub
 
+from ._terms import monomial, numeric_sum, poly_terms, symbolic_sum
 from .errors import InvalidOptionError, ShapeError
 from .tables import latex_number, snap_roots
 
@@ -59,51 +60,12 @@ def dot_latex(name: str) -> str:
         return f"\\dot{{{name_latex(name)}}}"
 
 
-def _mono(s: str, k: int) -> str:
-    if k == 0:
-        return ""
-    if k == 1:
-        return s
-    return f"{s}^{{{k}}}"
-
-
 def _combo(terms: Sequence[tuple[object, str]], *, numeric: bool = False,
            digits: int = 4) -> str:
     r"""``c1 m1 + c2 m2 + ...`` with signs folded and sums in parentheses."""
-    parts = []
-    for c, mono in terms:
-        if numeric:
-            x = float(cast(SupportsFloat, c))  # numeric=True: callers pass numbers
-            if x == 0:
-                continue
-            neg = x < 0
-            mag = abs(x)
-            txt = latex_number(mag, digits)
-            if mono and txt == "1":
-                body = mono
-            else:
-                body = f"{txt} {mono}".rstrip()
-        else:
-            c = sp.sympify(c)
-            if c == 0:
-                continue
-            neg = bool(c.could_extract_minus_sign())
-            mag = -c if neg else c
-            if mono and mag == 1:
-                body = mono
-            elif mono and mag.is_Add:
-                body = f"\\left({sp.latex(mag)}\\right) {mono}"
-            elif mono:
-                body = f"{sp.latex(mag)} {mono}"
-            else:
-                body = sp.latex(mag)
-        parts.append(("-" if neg else "+", body))
-    if not parts:
-        return "0"
-    out = ("-" if parts[0][0] == "-" else "") + parts[0][1]
-    for sign, body in parts[1:]:
-        out += f" {sign} {body}"
-    return out
+    if numeric:
+        return numeric_sum(terms, lambda x: latex_number(x, digits))
+    return symbolic_sum(terms)
 
 
 def poly_latex(coeffs: Sequence[object], s: str = "s") -> str:
@@ -116,8 +78,7 @@ def poly_latex(coeffs: Sequence[object], s: str = "s") -> str:
     >>> poly_latex([J, b + K**2, -1])
     'J s^{2} + \\left(K^{2} + b\\right) s - 1'
     """
-    n = len(coeffs) - 1
-    return _combo([(c, _mono(s, n - k)) for k, c in enumerate(coeffs)])
+    return _combo(poly_terms(coeffs, s))
 
 
 def numeric_poly_latex(coeffs: Sequence[float], s: str = "s", *, digits: int = 4) -> str:
@@ -128,9 +89,7 @@ def numeric_poly_latex(coeffs: Sequence[float], s: str = "s", *, digits: int = 4
     >>> numeric_poly_latex([1.0, 0.0, -1.07e-05, 2.5])
     's^{3} - 1.07 \\cdot 10^{-5} s + 2.5'
     """
-    n = len(coeffs) - 1
-    return _combo([(c, _mono(s, n - k)) for k, c in enumerate(coeffs)], numeric=True,
-                  digits=digits)
+    return _combo(poly_terms(coeffs, s), numeric=True, digits=digits)
 
 
 def _lhs(lhs, input_name: str, output_name: str, s: str) -> str:
@@ -195,7 +154,7 @@ def tf_latex(num_coeffs: Sequence[object], den_coeffs: Sequence[object], *,
             if c == 0:
                 continue
             sym = sp.Symbol(f"{letter}_{n - k}")
-            terms.append((sym, _mono(s, n - k)))
+            terms.append((sym, monomial(s, n - k)))
             named.append((sym, c))
         fracs.append(_combo(terms))
     body = _frac(*fracs)

@@ -39,6 +39,7 @@ from sympy.polys.rings import PolyRing
 
 from .._labels import control_labels
 from . import _algebra as alg
+from ._terms import numeric_sum, poly_terms, symbolic_sum
 from .errors import (InvalidOptionError, MissingValueError, ParameterValueError, ShapeError,
                      SingularPencilError, UnknownSignalError)
 from .latex import numeric_tf_latex, poly_latex, tf_latex
@@ -435,23 +436,7 @@ class NumericTF:
 
 
 def _poly_text(coeffs: Sequence[float], s: str) -> str:
-    n = len(coeffs) - 1
-    parts = []
-    for k, c in enumerate(coeffs):
-        if c == 0.0:
-            continue
-        p = n - k
-        mono = "" if p == 0 else (s if p == 1 else f"{s}^{p}")
-        mag = abs(c)
-        txt = f"{mag:.4g}"
-        body = mono if (mono and txt == "1") else f"{txt} {mono}".rstrip()
-        parts.append(("-" if c < 0 else "+", body))
-    if not parts:
-        return "0"
-    out = ("-" if parts[0][0] == "-" else "") + parts[0][1]
-    for sign, body in parts[1:]:
-        out += f" {sign} {body}"
-    return out
+    return numeric_sum(poly_terms(coeffs, s, power="{}^{}"), lambda x: f"{x:.4g}")
 
 
 # ======================================================================= symbolic
@@ -531,30 +516,8 @@ def _value_map(gens: Sequence[sp.Expr], values: Mapping | None) -> dict:
 
 
 def _poly_str(coeffs: Sequence[sp.Expr], s: sp.Symbol) -> str:
-    n = len(coeffs) - 1
-    parts = []
-    for k, c in enumerate(coeffs):
-        if c == 0:
-            continue
-        p = n - k
-        mono = "" if p == 0 else (str(s) if p == 1 else f"{s}**{p}")
-        neg = c.could_extract_minus_sign()
-        mag = -c if neg else c
-        if mono and mag == 1:
-            body = mono
-        elif mono and mag.is_Add:
-            body = f"({mag})*{mono}"
-        elif mono:
-            body = f"{mag}*{mono}"
-        else:
-            body = str(mag)
-        parts.append(("-" if neg else "+", body))
-    if not parts:
-        return "0"
-    out = ("-" if parts[0][0] == "-" else "") + parts[0][1]
-    for sign, body in parts[1:]:
-        out += f" {sign} {body}"
-    return out
+    return symbolic_sum(poly_terms(coeffs, str(s), power="{}**{}"), text=str, group="({})*{}",
+                        product="{}*{}")
 
 
 @dataclass(frozen=True)
@@ -794,9 +757,8 @@ class TransferMatrix:
         j = _resolve(inp, self.input_names, "input")
         if self._raw is not None:
             conv, dd, nds = self._raw
-            num, den = alg.cancel_common(nds[i][j], dd, conv.ring, conv.k)
-            Pd, (Pn,) = _normalize(conv, den, [num], self.normalize, self.s)
-            return SymbolicTF(Pn, Pd, self.input_names[j], self.output_names[i])
+            return _entry(conv, nds[i][j], dd, self.s, self.input_names[j], self.output_names[i],
+                          self.normalize, cancel=True)
         return _cancel_pair(self.nums[i][j], self.den, self.input_names[j],
                             self.output_names[i], self.normalize)
 
@@ -855,14 +817,32 @@ def _tf_from_exprs(num: sp.Expr, den: sp.Expr, s: sp.Symbol, input_name: str,
     ring, params, (pn, pd) = alg.polys_from_exprs([n, d], s, backend=backend)
     k = len(params)
     pn, pd = alg.to_sdict(pn, ring, k), alg.to_sdict(pd, ring, k)
+    return _entry(_Converter(ring, params), pn, pd, s, input_name, output_name, normalize,
+                  cancel=cancel)
+
+
+def _entry(conv: _Converter, num: dict, den: dict, s: sp.Symbol, input_name: str,
+           output_name: str, normalize: str, *, cancel: bool) -> SymbolicTF:
+    """One transfer function from ring s-dicts: optionally cancelled, then normalized."""
     if cancel:
-        pn, pd = alg.cancel_common(pn, pd, ring, k)
-    conv = _Converter(ring, params)
-    Pd, (Pn,) = _normalize(conv, pd, [pn], normalize, s)
+        num, den = alg.cancel_common(num, den, conv.ring, conv.k)
+    Pd, (Pn,) = _normalize(conv, den, [num], normalize, s)
     return SymbolicTF(Pn, Pd, input_name, output_name)
 
 
 # ================================================================== entry points
+def _prepare(A, B, C, D, E, input_names, output_names, s, normalize, method):
+    """Checked options, matrices, signal names and Laplace variable of an entry point."""
+    _check_options(normalize, method)
+    A, B, C, D, E = _check_shapes(A, B, C, D, E)
+    ins = _signal_names(input_names, B.shape[1], "u", "input_names")
+    outs = _signal_names(output_names, C.shape[0], "y", "output_names")
+    s = sp.Symbol("s") if s is None else s
+    if not isinstance(s, sp.Symbol):
+        raise InvalidOptionError(f"s: expected a sympy Symbol, got {s!r}")
+    return A, B, C, D, E, ins, outs, s
+
+
 def _compute(A, B, C, D, E, s, method, backend):
     enc = alg.encode_system(A, B, C, D, E, s, backend=backend)
     ring = enc.ring
@@ -955,22 +935,13 @@ def transfer_function(A, B, C, D=None, *, E=None, input: str | int | None = None
     >>> transfer_function(A, [1/La, 0], [[0, 1]]).den_coeffs
     (1, (J*R_a + L_a*b)/(J*L_a), (K**2 + R_a*b)/(J*L_a))
     """
-    _check_options(normalize, method)
-    A, B, C, D, E = _check_shapes(A, B, C, D, E)
-    ins = _signal_names(input_names, B.shape[1], "u", "input_names")
-    outs = _signal_names(output_names, C.shape[0], "y", "output_names")
+    A, B, C, D, E, ins, outs, s = _prepare(A, B, C, D, E, input_names, output_names, s,
+                                           normalize, method)
     j = _resolve(input, ins, "input")
     i = _resolve(output, outs, "output")
-    s = sp.Symbol("s") if s is None else s
-    if not isinstance(s, sp.Symbol):
-        raise InvalidOptionError(f"s: expected a sympy Symbol, got {s!r}")
     enc, den, nums = _compute(A, B[:, j], C[i, :], D[i, j:j + 1], E, s, method, backend)
-    num = nums[0][0]
-    if cancel:
-        num, den = alg.cancel_common(num, den, enc.ring, len(enc.params))
-    conv = _Converter(enc.ring, enc.params)
-    Pd, (Pn,) = _normalize(conv, den, [num], normalize, s)
-    return SymbolicTF(Pn, Pd, ins[j], outs[i])
+    return _entry(_Converter(enc.ring, enc.params), nums[0][0], den, s, ins[j], outs[i],
+                  normalize, cancel=cancel)
 
 
 def transfer_matrix(A, B, C, D=None, *, E=None, input_names: Sequence[str] | None = None,
@@ -993,13 +964,8 @@ def transfer_matrix(A, B, C, D=None, *, E=None, input_names: Sequence[str] | Non
     >>> G.den.as_expr(), [n.as_expr() for n in G.nums[0]]
     (C*R*s + 1, [1, R])
     """
-    _check_options(normalize, method)
-    A, B, C, D, E = _check_shapes(A, B, C, D, E)
-    ins = _signal_names(input_names, B.shape[1], "u", "input_names")
-    outs = _signal_names(output_names, C.shape[0], "y", "output_names")
-    s = sp.Symbol("s") if s is None else s
-    if not isinstance(s, sp.Symbol):
-        raise InvalidOptionError(f"s: expected a sympy Symbol, got {s!r}")
+    A, B, C, D, E, ins, outs, s = _prepare(A, B, C, D, E, input_names, output_names, s,
+                                           normalize, method)
     enc, den, nums = _compute(A, B, C, D, E, s, method, backend)
     conv = _Converter(enc.ring, enc.params)
     flat = [x for row in nums for x in row]
