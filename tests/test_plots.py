@@ -45,9 +45,10 @@ def test_bode_accepts_pairs_callables_and_several_systems():
                labels=["tf", "pair", "callable"])
     mag_ax, ph_ax = fig.axes
     assert len(mag_ax.lines) == len(ph_ax.lines) == 3
-    ref = mag_ax.lines[0].get_ydata()
-    for ln in mag_ax.lines[1:]:
-        assert np.allclose(ln.get_ydata(), ref)
+    ref = 20 * np.log10(np.abs(1 / (1j * omega + 1)))
+    for ln in mag_ax.lines:
+        np.testing.assert_allclose(ln.get_xdata(), omega)
+        np.testing.assert_allclose(ln.get_ydata(), ref, rtol=0, atol=1e-9)
     assert [t.get_text() for t in mag_ax.get_legend().get_texts()] == ["tf", "pair", "callable"]
 
 

@@ -26,6 +26,21 @@ def quanser_theta_over_v(J_l=0, L=None):
     return eg * em * Kg * kt / (s * (Z * (Jeq * s + Beq) + eg * em * Kg**2 * kt * km))
 
 
+def hand_numbers(J_l=0.0):
+    """Gain and pole of theta/e_in = gain / (s (s + pole)) (Lm neglected) and the two
+    non-zero poles with Lm, from the hand equations above, in floats on PARAMETERS."""
+    P = srv02.PARAMETERS
+    Rm, Lm, kt, km, em, eg, Kg, Jm, Beq = (P[n] for n in "Rm Lm kt km eta_m eta_g Kg Jm Beq".split())
+    Jeq = eg * Kg**2 * Jm + J_l
+    gain = eg * em * Kg * kt / (Rm * Jeq)
+    pole = (Rm * Beq + eg * em * Kg**2 * kt * km) / (Rm * Jeq)
+    # with Lm: den = s [Lm Jeq s^2 + (Lm Beq + Rm Jeq) s + Rm Beq + eg em Kg^2 kt km]
+    qa, qb, qc = Lm * Jeq, Lm * Beq + Rm * Jeq, Rm * Beq + eg * em * Kg**2 * kt * km
+    disc = (qb**2 - 4 * qa * qc) ** 0.5
+    lm_poles = ((-qb - disc) / (2 * qa), (-qb + disc) / (2 * qa))     # electrical, mechanical
+    return gain, pole, lm_poles
+
+
 def numeric_tf(G):
     num, den = sympy.fraction(sympy.cancel(G.subs({S[k]: v for k, v in srv02.PARAMETERS.items()})))
     return np.array(sympy.Poly(num, s).all_coeffs(), float), np.array(sympy.Poly(den, s).all_coeffs(), float)
@@ -61,9 +76,13 @@ def test_with_inductance_third_order_and_close_to_reduced():
     assert_same_tf(G, quanser_theta_over_v(L=S["Lm"]))
     num, den = numeric_tf(G)
     poles = np.sort(np.roots(den).real)
-    # electrical pole near -Rm/Lm = -14444, mechanical pole near -42.5
+    _, pole, (p_el, p_mech) = hand_numbers()
+    assert poles[0] == pytest.approx(p_el, rel=1e-8)
+    assert poles[1] == pytest.approx(p_mech, rel=1e-8)
+    assert abs(poles[2]) < 1e-9 * abs(p_el)                 # the integrator
+    # electrical pole near -Rm/Lm = -14444, mechanical pole near the reduced model's -pole
     assert poles[0] == pytest.approx(-2.6 / 0.18e-3, rel=0.01)
-    assert poles[1] == pytest.approx(-42.54, rel=0.01)
+    assert poles[1] == pytest.approx(-pole, rel=0.01)
 
 
 def test_link_inertia_as_rigid_load():
@@ -73,8 +92,9 @@ def test_link_inertia_as_rigid_load():
     assert_same_tf(G, quanser_theta_over_v(J_l=S["J_l"]))
     num, den = numeric_tf(G)
     num, den = num / den[0], den / den[0]
-    assert num[-1] == pytest.approx(6.01, rel=0.01)
-    assert den[1] == pytest.approx(0.684, rel=0.01)
+    gain, pole, _ = hand_numbers(J_l=srv02.PARAMETERS["J_l"])     # about 6.01 and 0.684
+    assert num[-1] == pytest.approx(gain, rel=1e-9)
+    assert den[1] == pytest.approx(pole, rel=1e-9)
 
 
 def test_sensors():

@@ -4,11 +4,13 @@
   inverse ZOH recovers the continuous gain and pole, the grey-box fit recovers
   ``Jm`` and ``Beq``.  The truth is the model's own ``theta/e_in``, whose
   coefficients are computed here from the hand-derived Eq. (1) expressions
-  (SRV-02 manual), not from the code under test.
+  (SRV-02 manual), not from the code under test; the data are that hand-derived
+  transfer function ZOH-sampled by scipy.
 * FLEXCAM (system formulation, 3 modes, 2 % modal damping): band-limited noise
   into the motor, tip deflection with camera noise, sampled at 1 kHz; the FRF
   peaks and the rational fit land on the model's modal frequencies / poles
-  (eigenvalues of its A matrix).
+  (eigenvalues of its A matrix); the data come from scipy ``lsim`` on the
+  plant's matrices, not from the simulator the grey-box fit uses.
 """
 
 import sys
@@ -20,8 +22,7 @@ import scipy.signal
 
 import bondgraph as bg
 from bondgraph.identification import (FrequencyData, TimeData, arx, estimate_frf,
-                                      find_modal_peaks, fit_rational_detailed, greybox_fit, prbs,
-                                      simulate_sampled)
+                                      find_modal_peaks, fit_rational_detailed, greybox_fit, prbs)
 from bondgraph.numeric import compile_plant
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "models"))
@@ -50,7 +51,14 @@ def hub():
     values = {p.name: srv02.PARAMETERS[p.name] for p in model.parameters}
     plant = nm.plant(values)
     u = prbs(10, clock_divider=4, length=HUB_N)             # +-1 V, bits held 20 ms
-    theta = simulate_sampled(plant, u, HUB_DT, input="e_in", output="theta")
+    # data from the hand-derived K / (s (s + a)), states (theta, theta'), ZOH-sampled
+    # by scipy: neither the model's matrices nor the simulator used inside the fit
+    K, a = hub_truth()
+    hand = (np.array([[0.0, 1.0], [0.0, -a]]), np.array([[0.0], [K]]),
+            np.array([[1.0, 0.0]]), np.zeros((1, 1)))
+    sysd = scipy.signal.cont2discrete(hand, HUB_DT, method="zoh")
+    _, theta, _ = scipy.signal.dlsim(sysd[:4] + (HUB_DT,), u)
+    theta = theta[:, 0]
     rng = np.random.default_rng(2024)
     y = theta + HUB_NOISE * rng.standard_normal(HUB_N)
     return nm, values, plant, u, y
@@ -115,7 +123,12 @@ def flex():
     sos = scipy.signal.butter(8, FC_BAND, fs=fine, output="sos")
     uf = scipy.signal.sosfilt(sos, rng.standard_normal(n * FC_OVERSAMPLE))
     uf /= uf.std()                                           # 1 V rms
-    yf = simulate_sampled(plant, uf, 1.0 / fine, input="hub.e_in", output="y", method="foh")
+    # scipy lsim (input linear between samples) on the plant's matrices: a simulator
+    # independent of the one used inside the fit
+    i, j = plant.input_names.index("hub.e_in"), plant.output_names.index("y")
+    t_fine = np.arange(uf.size) / fine
+    _, yf, _ = scipy.signal.lsim((plant.A, plant.B[:, [i]], plant.C[[j]], plant.D[[j]][:, [i]]),
+                                 uf, t_fine, interp=True)
     u, y = uf[::FC_OVERSAMPLE], yf[::FC_OVERSAMPLE]
     y = y + FC_NOISE * y.std() * rng.standard_normal(n)
     frf = estimate_frf(u, y, fs=FC_FS, nperseg=FC_NPERSEG)
