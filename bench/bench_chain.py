@@ -1,5 +1,8 @@
 """Benchmark: causality and derivation time for a chain of N mass-spring-damper cells.
 
+"total" is causality + derivation (the issue's target); "ABCD" is the extra
+time of ``Model.state_space()`` (sparse A, B, C, D).
+
 Each cell is a 1-junction with an I (mass) and an R (damper to ground); a
 0-junction with a C (spring) joins neighbouring masses; an Se drives the
 first mass.  Each size runs in a fresh process.
@@ -50,9 +53,11 @@ def one(n: int) -> dict:
     t2 = time.perf_counter()
     model = bg.derive(aug)
     t3 = time.perf_counter()
-    assert not aug.derivative and len(model.states) == 2 * n - 1
+    ss = model.state_space()
+    t4 = time.perf_counter()
+    assert not aug.derivative and len(model.states) == 2 * n - 1 and ss.A.shape[0] == 2 * n - 1
     return {"N": n, "bonds": len(aug.flat.bonds), "states": len(model.states),
-            "build": t1 - t0, "causality": t2 - t1, "derive": t3 - t2}
+            "build": t1 - t0, "causality": t2 - t1, "derive": t3 - t2, "abcd": t4 - t3}
 
 
 def main(argv: list[str]) -> None:
@@ -61,14 +66,14 @@ def main(argv: list[str]) -> None:
         return
     sizes = [int(a) for a in argv] or [10, 50, 100, 200, 500, 1000]
     print(f"{'N':>5} {'bonds':>6} {'states':>6} {'causality s':>12} {'derive s':>9} "
-          f"{'total s':>8} {'us/bond':>8}")
+          f"{'total s':>8} {'us/bond':>8} {'ABCD s':>7}")
     for n in sizes:
         out = subprocess.run([sys.executable, __file__, "--one", str(n)], check=True,
                              capture_output=True, text=True).stdout
         r = json.loads(out)
         tot = r["causality"] + r["derive"]
         print(f"{r['N']:>5} {r['bonds']:>6} {r['states']:>6} {r['causality']:>12.4f} "
-              f"{r['derive']:>9.4f} {tot:>8.4f} {1e6 * tot / r['bonds']:>8.1f}")
+              f"{r['derive']:>9.4f} {tot:>8.4f} {1e6 * tot / r['bonds']:>8.1f} {r['abcd']:>7.3f}")
 
 
 if __name__ == "__main__":

@@ -124,10 +124,8 @@ class Model:
         (Matrix([[-1/(C*R)]]), Matrix([[1/R]]), Matrix([[1/C]]), Matrix([[0]]))
         """
         x, u = self.states, self.inputs
-        A = _jacobian(self.rhs, x, u, self, "state equation", "x'")
-        B = _jacobian(self.rhs, u, x, self, "state equation", "x'", check_offset=False)
-        C = _jacobian(self.output_exprs, x, u, self, "output", "y")
-        D = _jacobian(self.output_exprs, u, x, self, "output", "y", check_offset=False)
+        A, B = _linear_form(self.rhs, x, u, self, "state equation", "x'")
+        C, D = _linear_form(self.output_exprs, x, u, self, "output", "y")
         return SymbolicStateSpace(A, B, C, D, self.state_names, self.input_names, self.output_names)
 
     def transfer_function(self, input=None, output=None, *, descriptor: bool | None = None,
@@ -241,10 +239,8 @@ class Model:
                                       sympy.ImmutableMatrix(sympy.eye(len(self.states))))
         E, F = self.descriptor
         x, u = self.states, self.inputs
-        A = _jacobian(F, x, u, self, "state equation", "F")
-        B = _jacobian(F, u, x, self, "state equation", "F", check_offset=False)
-        C = _jacobian(self.output_exprs, x, u, self, "output", "y")
-        D = _jacobian(self.output_exprs, u, x, self, "output", "y", check_offset=False)
+        A, B = _linear_form(F, x, u, self, "state equation", "F")
+        C, D = _linear_form(self.output_exprs, x, u, self, "output", "y")
         if E.free_symbols & (set(x) | set(u)):
             raise NonlinearModelError(f"model {self.name!r}: E depends on the states")
         return SymbolicStateSpace(A, B, C, D, self.state_names, self.input_names,
@@ -279,13 +275,20 @@ def _point(model: Model, values, symbols, what: str) -> dict:
     return out
 
 
-def _jacobian(exprs, wrt, others, model: Model, what: str, lhs: str, *, check_offset: bool = True):
-    """Sparse Jacobian of expressions known to be linear; checks linearity."""
-    wrt = tuple(wrt)
-    col = {s: j for j, s in enumerate(wrt)}
-    variables = set(wrt) | set(others)
+def _linear_form(exprs, x, u, model: Model, what: str, lhs: str):
+    """Sparse ``(M_x, M_u)`` with ``exprs = M_x x + M_u u``; checks linearity.
+
+    One pass over the terms of each expression: a term that is a product
+    containing exactly one state or input (to the first power) gives its
+    coefficient directly; any other term is differentiated.  Cost is
+    proportional to the size of the expressions, not to ``len(x)**2``.
+    """
+    x, u = tuple(x), tuple(u)
+    col = {s: (0, j) for j, s in enumerate(x)}
+    col.update({s: (1, j) for j, s in enumerate(u)})
+    variables = set(col)
     bad = set(model.input_derivatives) | {T_SYM}
-    entries = {}
+    entries: tuple[dict, dict] = ({}, {})
     for i, ex in enumerate(exprs):
         free = ex.free_symbols
         if free & bad:
@@ -293,21 +296,45 @@ def _jacobian(exprs, wrt, others, model: Model, what: str, lhs: str, *, check_of
                 f"model {model.name!r}: {what} {i + 1} depends on "
                 f"{', '.join(sorted(str(s) for s in free & bad))}; it has no constant (A, B) form"
             )
-        for s in free & set(wrt):
-            d = sympy.diff(ex, s)
-            if d.free_symbols & variables:
+        if not free & variables:
+            if ex != 0:
                 raise NonlinearModelError(
-                    f"model {model.name!r}: {what} {i + 1} ({lhs}) is nonlinear in {s}: "
-                    f"d/d{s} = {d}; use a linearization about an operating point"
-                )
-            if d != 0:
-                entries[(i, col[s])] = d
-        if check_offset and free:
-            zero = {s: 0 for s in free & variables}
-            off = ex.xreplace(zero)
-            if off != 0:
+                    f"model {model.name!r}: {what} {i + 1} ({lhs}) has the constant term {ex}; "
+                    "model constant loads as sources (inputs)")
+            continue
+        coeffs: dict[sympy.Symbol, list] = {}
+        for term in sympy.Add.make_args(ex):
+            vs = term.free_symbols & variables
+            if not vs:
                 raise NonlinearModelError(
-                    f"model {model.name!r}: {what} {i + 1} ({lhs}) has the constant term {off}; "
-                    "model constant loads as sources (inputs)"
-                )
-    return sympy.ImmutableMatrix(sympy.SparseMatrix(len(exprs), len(wrt), entries))
+                    f"model {model.name!r}: {what} {i + 1} ({lhs}) has the constant term {term}; "
+                    "model constant loads as sources (inputs)")
+            if len(vs) == 1:
+                (v,) = vs
+                if term == v:
+                    coeffs.setdefault(v, []).append(sympy.Integer(1))
+                    continue
+                if term.is_Mul and term.args.count(v) == 1:
+                    rest = [a for a in term.args if a != v]
+                    if not any(a.free_symbols & variables for a in rest):
+                        coeffs.setdefault(v, []).append(sympy.Mul(*rest))
+                        continue
+            for v in vs:  # general term: differentiate, then check linearity
+                d = sympy.diff(term, v)
+                if d.free_symbols & variables:
+                    raise NonlinearModelError(
+                        f"model {model.name!r}: {what} {i + 1} ({lhs}) is nonlinear in {v}: "
+                        f"d/d{v} = {d}; use a linearization about an operating point")
+                coeffs.setdefault(v, []).append(d)
+            rest_term = term.xreplace({v: 0 for v in vs})
+            if rest_term != 0:
+                raise NonlinearModelError(
+                    f"model {model.name!r}: {what} {i + 1} ({lhs}) has the constant term "
+                    f"{rest_term}; model constant loads as sources (inputs)")
+        for v, parts in coeffs.items():
+            c = sympy.Add(*parts)
+            if c != 0:
+                k, j = col[v]
+                entries[k][(i, j)] = c
+    return (sympy.ImmutableSparseMatrix(len(exprs), len(x), entries[0]),
+            sympy.ImmutableSparseMatrix(len(exprs), len(u), entries[1]))

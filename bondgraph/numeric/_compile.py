@@ -15,7 +15,22 @@ from typing import Callable, Sequence
 
 import sympy
 
-__all__ = ["lambdify_cse"]
+__all__ = ["lambdify_cse", "placeholders"]
+
+
+def placeholders(prefix: str, n: int) -> list[sympy.Symbol]:
+    """``n`` plain symbols with identifier names for lambdify arguments.
+
+    Plain symbols, not ``Dummy``: a single Dummy argument makes lambdify
+    re-substitute every argument into every expression, which is quadratic in
+    the model size (a 1000-state plant took minutes).
+
+    Examples
+    --------
+    >>> placeholders("p", 2)
+    [__bg_p0, __bg_p1]
+    """
+    return [sympy.Symbol(f"__bg_{prefix}{i}") for i in range(n)]
 
 _HAS_DOCLIMIT = "docstring_limit" in inspect.signature(sympy.lambdify).parameters
 

@@ -36,7 +36,7 @@ import sympy
 
 from ..model import Model
 from ..statespace import SignalCounts, check_matrix_shape, expected_shape
-from ._compile import lambdify_cse
+from ._compile import lambdify_cse, placeholders
 from ._linalg import freeze, frequency_response, sorted_eigenvalues
 from .._labels import control_labels
 from .errors import NumericError, ParameterValueError
@@ -302,7 +302,7 @@ class NumericModel(_CompiledModel):
         super().__init__(model)
         ss = model.state_space()
         self._shapes = tuple(M.shape for M in (ss.A, ss.B, ss.C, ss.D))
-        dummies = [sympy.Dummy(f"p{i}") for i in range(len(self._params))]
+        dummies = placeholders("p", len(self._params))
         swap = dict(zip(self._params, dummies))
         self._var: list[tuple[int, int, int]] = []
         self._const: list[tuple[int, int, int, float]] = []

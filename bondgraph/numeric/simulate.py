@@ -30,7 +30,7 @@ import sympy
 
 from ..model import Model
 from ..signals import t as T_SYM
-from ._compile import lambdify_cse
+from ._compile import lambdify_cse, placeholders
 from ._linalg import freeze
 from .errors import NumericError, SimulationError
 from .parameters import ParameterValues, resolve_parameters
@@ -85,10 +85,10 @@ class NumericDynamics(_CompiledModel):
                 f"({', '.join(s.name for s in model.input_derivatives)}); they cannot be simulated "
                 "from input values alone -- drive that storage element through a compliance or "
                 "resistance instead")
-        tt = sympy.Dummy("t")
-        xs = [sympy.Dummy(f"x{i}") for i in range(len(model.states))]
-        us = [sympy.Dummy(f"u{i}") for i in range(len(model.inputs))]
-        ps = [sympy.Dummy(f"p{i}") for i in range(len(self._params))]
+        (tt,) = placeholders("t", 1)
+        xs = placeholders("x", len(model.states))
+        us = placeholders("u", len(model.inputs))
+        ps = placeholders("p", len(self._params))
         swap = {T_SYM: tt, **dict(zip(model.states, xs)), **dict(zip(model.inputs, us)),
                 **dict(zip(self._params, ps))}
         args = [tt, xs, us, ps]
