@@ -35,3 +35,66 @@ def control_labels(names: Sequence[str]) -> list[str]:
         taken.add(label)
         out.append(label)
     return out
+
+
+_STATE_PREFIXES = ("p", "q", "x", "h")
+
+
+def latex_name(name: str) -> str:
+    r"""LaTeX of a (possibly hierarchical) signal, state or parameter name.
+
+    Sub-model paths are set upright before the local name, so ``link.a_1``
+    reads :math:`\mathrm{link}.a_{1}` and the state ``p_link.m_1`` reads
+    :math:`p_{\mathrm{link}.m_{1}}`; plain names print as sympy prints them.
+
+    Examples
+    --------
+    >>> latex_name("omega"), latex_name("link.a_1"), latex_name("p_link.m_1")
+    ('\\omega', '\\mathrm{link}.a_{1}', 'p_{\\mathrm{link}.m_{1}}')
+    """
+    import sympy
+
+    if "." not in name:
+        return sympy.latex(sympy.Symbol(name))
+    head, sep, rest = name.partition("_")
+    if sep and head in _STATE_PREFIXES and "." in rest:
+        return f"{head}_{{{_path_latex(rest)}}}"
+    return _path_latex(name)
+
+
+def latex_dot(name: str) -> str:
+    r"""LaTeX of the time derivative of a state name.
+
+    Examples
+    --------
+    >>> latex_dot("p_J"), latex_dot("p_link.m_1"), latex_dot("theta")
+    ('\\dot{p}_{J}', '\\dot{p}_{\\mathrm{link}.m_{1}}', '\\dot{\\theta}')
+    """
+    head, sep, rest = name.partition("_")
+    if sep and head in _STATE_PREFIXES and rest:
+        inner = _path_latex(rest) if "." in rest else latex_name(rest)
+        return rf"\dot{{{head}}}_{{{inner}}}"
+    return rf"\dot{{{latex_name(name)}}}"
+
+
+def _path_latex(path: str) -> str:
+    import sympy
+
+    *prefix, local = path.split(".")
+    return ".".join([rf"\mathrm{{{p}}}" for p in prefix] + [sympy.latex(sympy.Symbol(local))])
+
+
+def tex(expr) -> str:
+    r"""``sympy.latex`` with hierarchical symbol names set by :func:`latex_name`.
+
+    Examples
+    --------
+    >>> import sympy
+    >>> tex(sympy.Symbol("motor.Ra") * sympy.Symbol("i"))
+    'i \\mathrm{motor}.Ra'
+    """
+    import sympy
+
+    names = {s: latex_name(s.name) for s in getattr(expr, "free_symbols", ())
+             if isinstance(s, sympy.Symbol) and "." in s.name}
+    return sympy.latex(expr, symbol_names=names) if names else sympy.latex(expr)

@@ -13,6 +13,7 @@ from typing import Optional
 
 import sympy
 
+from ._labels import latex_dot, latex_name, tex
 from .causality import AugmentedBondGraph
 from .errors import NonlinearModelError
 from .signals import t as T_SYM
@@ -249,8 +250,8 @@ class Model:
 
 def _equations_latex(model: Model) -> str:
     r"""``\dot x = f`` and ``y = g`` lines as a LaTeX aligned block."""
-    rows = [r"\dot{%s} &= %s" % (sympy.latex(s), sympy.latex(r)) for s, r in zip(model.states, model.rhs)]
-    rows += [r"%s &= %s" % (sympy.latex(sympy.Symbol(n)), sympy.latex(g))
+    rows = [r"%s &= %s" % (latex_dot(s.name), tex(r)) for s, r in zip(model.states, model.rhs)]
+    rows += [r"%s &= %s" % (latex_name(n), tex(g))
              for n, g in zip(model.output_names, model.output_exprs)]
     return r"$$\begin{aligned}" + r" \\ ".join(rows) + r"\end{aligned}$$"
 

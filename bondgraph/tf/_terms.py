@@ -15,6 +15,8 @@ from typing import Callable, Iterable, Sequence, SupportsFloat, cast
 
 import sympy as sp
 
+from .._labels import tex
+
 __all__ = ["monomial", "poly_terms", "numeric_sum", "symbolic_sum"]
 
 LATEX_POWER = "{}^{{{}}}"
@@ -58,7 +60,7 @@ def numeric_sum(terms: Iterable[tuple[object, str]], number: Callable[[float], s
     return _join(parts)
 
 
-def symbolic_sum(terms: Iterable[tuple[object, str]], *, text: Callable[[sp.Expr], str] = sp.latex,
+def symbolic_sum(terms: Iterable[tuple[object, str]], *, text: Callable[[sp.Expr], str] = tex,
                  group: str = "\\left({}\\right) {}", product: str = "{} {}") -> str:
     """Sum with sympy coefficients: signs folded out, a unit factor dropped, and a
     coefficient that is itself a sum written ``group.format(text(c), monomial)``."""

@@ -22,6 +22,7 @@ import numpy as np
 import sympy as sp
 from sympy.printing.conventions import split_super_sub
 
+from .._labels import latex_name, tex
 from ._terms import monomial, numeric_sum, poly_terms, symbolic_sum
 from .errors import InvalidOptionError, ShapeError
 from .tables import latex_number, snap_roots
@@ -39,7 +40,7 @@ def name_latex(name: str) -> str:
     >>> name_latex("omega"), name_latex("p_J"), name_latex("x2")
     ('\\omega', 'p_{J}', 'x_{2}')
     """
-    return sp.latex(sp.Symbol(name))
+    return latex_name(name)
 
 
 def dot_latex(name: str) -> str:
@@ -50,6 +51,8 @@ def dot_latex(name: str) -> str:
     >>> dot_latex("p_J"), dot_latex("omega"), dot_latex("x2")
     ('\\dot{p}_{J}', '\\dot{\\omega}', '\\dot{x}_{2}')
     """
+    if "." in name:
+        return f"\\dot{{{latex_name(name)}}}"
     base, sups, subs = split_super_sub(name)
     if not base:
         return f"\\dot{{{name_latex(name)}}}"
@@ -160,7 +163,7 @@ def tf_latex(num_coeffs: Sequence[object], den_coeffs: Sequence[object], *,
     body = _frac(*fracs)
     lines.append(f"{left} &= {body}" if left else f"&{body}")
     for sym, c in named:
-        lines.append(f"{sp.latex(sym)} &= {sp.latex(c)}")
+        lines.append(f"{sp.latex(sym)} &= {tex(c)}")
     return "\\begin{aligned}\n" + " \\\\\n".join(lines) + "\n\\end{aligned}"
 
 
@@ -272,7 +275,7 @@ def matrix_latex(M, name: str | None = None) -> str:
     >>> matrix_latex(sp.Matrix([[0, 1/m], [-k, 0]]), "A")
     'A = \\left[\\begin{matrix}0 & \\frac{1}{m}\\\\- k & 0\\end{matrix}\\right]'
     """
-    body = sp.latex(sp.ImmutableMatrix(M))
+    body = tex(sp.ImmutableMatrix(M))
     return f"{name} = {body}" if name else body
 
 
@@ -359,14 +362,14 @@ def state_space_latex(A, B, C=None, D=None, *, E=None,
     us = _names(input_names, B.shape[1], "u", "input_names")
     left = _vector(xs, dotted=True)
     if E is not None:
-        left = f"{sp.latex(sp.ImmutableMatrix(E))} {left}"
-    lines = [f"{left} &= {sp.latex(A)} {_vector(xs)} + {sp.latex(B)} {_vector(us)}"]
+        left = f"{tex(sp.ImmutableMatrix(E))} {left}"
+    lines = [f"{left} &= {tex(A)} {_vector(xs)} + {tex(B)} {_vector(us)}"]
     if C is not None:
         C = sp.ImmutableMatrix(C)
         ys = _names(output_names, C.shape[0], "y", "output_names")
-        right = f"{sp.latex(C)} {_vector(xs)}"
+        right = f"{tex(C)} {_vector(xs)}"
         if D is not None and not sp.ImmutableMatrix(D).is_zero_matrix:
-            right += f" + {sp.latex(sp.ImmutableMatrix(D))} {_vector(us)}"
+            right += f" + {tex(sp.ImmutableMatrix(D))} {_vector(us)}"
         lines.append(f"{_vector(ys)} &= {right}")
     return "\\begin{aligned}\n" + " \\\\\n".join(lines) + "\n\\end{aligned}"
 
