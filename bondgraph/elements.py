@@ -149,7 +149,22 @@ def _law(value: LawLike, own: LawVariable, *, owner: str, what: str) -> Optional
 
 @dataclass(frozen=True, eq=False)
 class Element:
-    """Base of all elements.  ``name`` is local to the graph holding it."""
+    """Base of all elements.  ``name`` is local to the graph holding it.
+
+    Parameters
+    ----------
+    name : str
+        An identifier without dots, unique within its graph.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> el = bg.R("b")
+    >>> isinstance(el, bg.Element), el.label(), el.bonds
+    (True, 'R:b', (1, 1))
+    >>> el.resolved("motor.b").name
+    'motor.b'
+    """
 
     name: str
     kind: ClassVar[str] = "?"
@@ -198,17 +213,60 @@ def _signals_of(*exprs) -> frozenset:
 
 @dataclass(frozen=True, eq=False)
 class _Source(Element):
-    """A source: its value is an input of the model."""
+    """A source: its value is an input of the model, or a given expression.
+
+    ``value=`` makes the source prescribed instead of an input: a constant
+    (gravity ``m*g``), a function of time :data:`bondgraph.t`, or of signals
+    (a modulated source, MSe/MSf: a controller or sensor feedback written
+    in the graph, e.g. ``-kp*bg.displacement("m")``).
+    """
+
+    value: ParameterLike = field(default=None, kw_only=True)
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        val = to_expr(self.value, owner=f"{self.kind}:{self.name}", what="value")
+        if val is not None:
+            law_vars = [str(s) for s in val.free_symbols if isinstance(s, LawVariable)]
+            if law_vars:
+                raise ParameterError(
+                    f"{self.kind}:{self.name}: value {val} uses {', '.join(law_vars)}; a source value may "
+                    "use parameters, signals (bondgraph.flow('m'), ...) and time bondgraph.t")
+        object.__setattr__(self, "value", val)
+
+    @property
+    def modulated(self) -> bool:
+        """Whether the value depends on signals or time (an MSe / MSf)."""
+        v = self.value
+        return isinstance(v, sympy.Expr) and any(isinstance(s, Signal) or s == T_SYM
+                                                  for s in v.free_symbols)
+
+    def label(self) -> str:
+        return f"{'M' if self.modulated else ''}{self.kind}:{self.name}"
+
+    def resolved(self, path: str) -> Element:
+        el = _rename(self, path)
+        object.__setattr__(el, "value", _prefix_signals(self.value, path[: len(path) - len(self.name)]))
+        return el
+
+    def signals(self) -> frozenset:
+        return _signals_of(self.value)
 
 
 @dataclass(frozen=True, eq=False)
 class Se(_Source):
     """Effort source; its effort is the input named after the element.
 
+    With ``value=`` the effort is that expression instead (no input); with a
+    value that uses signals it is a modulated source, MSe.
+
     Examples
     --------
+    >>> import bondgraph as bg, sympy
     >>> Se("e_in").label()
     'Se:e_in'
+    >>> Se("ctrl", value=-sympy.Symbol("kp") * bg.displacement("m")).label()
+    'MSe:ctrl'
     """
 
     kind: ClassVar[str] = "Se"
@@ -217,6 +275,8 @@ class Se(_Source):
 @dataclass(frozen=True, eq=False)
 class Sf(_Source):
     """Flow source; its flow is the input named after the element.
+
+    ``value=`` prescribes the flow instead (MSf when it uses signals).
 
     Examples
     --------
@@ -229,7 +289,27 @@ class Sf(_Source):
 
 @dataclass(frozen=True, eq=False)
 class OnePort(Element):
-    """Storage or dissipation: a parameter, or a law in the own variable."""
+    """Storage or dissipation: a parameter, or a law in the own variable.
+
+    Base of :class:`I`, :class:`C` and :class:`R`; give either ``parameter``
+    or ``law`` and/or ``inverse``, not both.
+
+    Parameters
+    ----------
+    name : str
+    parameter : number, str or sympy expression, optional
+        The linear coefficient; defaults to a positive symbol named after the
+        element's path.
+    law, inverse : sympy expression or callable, optional
+        The constitutive law in the own variable, and its inverse.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> b = bg.R("b", 0.5)
+    >>> isinstance(b, bg.elements.OnePort), b.forward(), b.backward()
+    (True, 0.5*f, 2.0*e)
+    """
 
     parameter: ParameterLike = None
     law: LawLike = None
@@ -415,6 +495,26 @@ class R(OnePort):
 
 @dataclass(frozen=True, eq=False)
 class TwoPort(Element):
+    """Two-port element with a modulus: base of TF, GY, MTF and MGY.
+
+    Parameters
+    ----------
+    name : str
+    modulus : number, str or sympy expression, optional
+        Defaults to a positive symbol named after the element's path.
+    efficiency : number, str or sympy expression, optional
+        Constant power efficiency (keyword only); 1 when not given.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> gear = bg.TF("gear", 3, efficiency=0.9)
+    >>> isinstance(gear, bg.elements.TwoPort), gear.modulus, gear.bonds
+    (True, 3, (2, 2))
+    >>> bg.GY("K").resolved("motor.K").modulus
+    motor.K
+    """
+
     modulus: ParameterLike = None
     efficiency: ParameterLike = field(default=None, kw_only=True)
     bonds: ClassVar[tuple[int, Optional[int]]] = (2, 2)

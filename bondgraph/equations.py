@@ -152,7 +152,7 @@ class _Deriver:
                 self.state_of[el.name] = sym
                 self.states.append(sym)
                 self.state_names.append(sym.name)
-            elif el.kind in ("Se", "Sf"):
+            elif el.kind in ("Se", "Sf") and getattr(el, "value", None) is None:
                 sym = sympy.Symbol(el.name, real=True)
                 self.input_of[el.name] = sym
                 self.input_syms.append(sym)
@@ -320,10 +320,10 @@ class _Deriver:
         k = v // 2
         is_flow = v % 2 == 1
         inc = self.flat.incidence[name]
-        if kind == "Se":
-            return self.input_of[name]
-        if kind == "Sf":
-            return -self._sign(name, k) * self.input_of[name]
+        if kind in ("Se", "Sf"):
+            given = getattr(el, "value", None)
+            u = self.input_of[name] if given is None else self._resolve(given)
+            return u if kind == "Se" else -self._sign(name, k) * u
         if isinstance(el, OnePort):
             s = self._sign(name, k)
             own = {"I": P_VAR, "C": Q_VAR, "R": F_VAR}[kind]

@@ -336,3 +336,35 @@ def test_geared_inertias_transfer_function_from_descriptor_form():
     J1, J2, n, b1, b2 = P("J1 J2 n b1 b2")
     G = model.transfer_function("T", "w1", normalize="as-derived")
     assert sympy.simplify(G.expr - 1 / ((J1 + n**2 * J2) * s + b1 + n**2 * b2)) == 0
+
+
+def test_constant_effort_source_gravity():
+    # m x'' = m g - k x (x down): equilibrium x = m g / k; gravity is not an input
+    m, g_, k = P("m g k")
+    gr = bg.BondGraph("hanging")
+    v = bg.One("v")
+    gr.add(v, bg.Se("gravity", value=m * g_), bg.I("m", m), bg.C("k", stiffness=k))
+    connect_all(gr, [("gravity", v), (v, "m"), (v, "k")])
+    model = bg.derive(gr, outputs={"x": bg.displacement("k")})
+    assert model.inputs == ()
+    pm, qk = model.states
+    rest = {pm: 0, qk: m * g_ / k}
+    assert [sympy.simplify(r.xreplace(rest)) for r in model.rhs] == [0, 0]
+    with pytest.raises(bg.NonlinearModelError, match="constant term"):
+        model.state_space()
+    lin = model.linearize({"p_m": 0, "q_k": m * g_ / k}, {})
+    assert lin.A == sympy.Matrix([[0, -k], [1 / m, 0]])
+
+
+def test_modulated_effort_source_pd_feedback():
+    # m x'' = F - kp x - kd x'  (controller written in the graph as an MSe)
+    m, kp, kd = P("m kp kd")
+    gr = bg.BondGraph("pd")
+    v = bg.One("v")
+    ctrl = bg.Se("ctrl", value=-kp * bg.displacement("m") - kd * bg.flow("m"))
+    gr.add(v, bg.Se("F"), ctrl, bg.I("m", m))
+    connect_all(gr, [("F", v), ("ctrl", v), (v, "m")])
+    assert ctrl.label() == "MSe:ctrl"
+    model = bg.derive(gr, outputs={"x": bg.displacement("m")})
+    assert model.input_names == ("F",)
+    assert_same_tf(tf_of(model, "F", "x"), 1 / (m * s**2 + kd * s + kp))
