@@ -43,7 +43,20 @@ _TWO_PORT = ("TF", "GY", "MTF", "MGY")
 
 @dataclass(frozen=True)
 class CausalBond:
-    """A bond with its causal stroke: ``stroke`` names the element at the stroke end."""
+    """A bond with its causal stroke: ``stroke`` names the element at the stroke end.
+
+    Returned by :meth:`AugmentedBondGraph.bond` and :attr:`AugmentedBondGraph.bonds`.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("mass")
+    >>> g.add(bg.Se("F"), bg.I("m"))
+    >>> _ = g.connect("F", "m")
+    >>> b = bg.assign_causality(g).bond(1)
+    >>> b, str(b)
+    (CausalBond(number=1, tail='F', head='m', stroke='m'), '1: F -> m|')
+    """
 
     number: int
     tail: str
@@ -73,6 +86,21 @@ class AugmentedBondGraph:
         Bonds of a junction-structure loop whose causality was chosen.
     loops : tuple of tuple of int
         Bond numbers of each algebraic loop (zero-order causal cycle).
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("mass")
+    >>> g.add(bg.Se("F"), bg.I("m"))
+    >>> _ = g.connect("F", "m")
+    >>> aug = bg.assign_causality(g)
+    >>> print(aug)
+    augmented bond graph 'mass'
+      1: F -> m|
+      integral causality: m
+      derivative causality: -
+    >>> aug.effort_into("m", 1)
+    True
     """
 
     flat: FlatGraph
@@ -136,6 +164,16 @@ def assign_causality(graph: Union[BondGraph, FlatGraph]) -> AugmentedBondGraph:
         When two requirements contradict (two Sf on a 1-junction, two Se on a
         0-junction, a source forced into the wrong causality); the message
         names the bonds and elements involved.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("rc")
+    >>> g.add(bg.Sf("i"), bg.Zero("v"), bg.R("R"), bg.C("C"))
+    >>> for tail, head in [("i", "v"), ("v", "R"), ("v", "C")]: _ = g.connect(tail, head)
+    >>> aug = bg.assign_causality(g)
+    >>> aug.integral, [str(b) for b in aug.bonds]
+    (('C',), ['1: |i -> v', '2: v -> R|', '3: |v -> C'])
     """
     flat = graph if isinstance(graph, FlatGraph) else flatten(graph)
     return _Scap(flat).run()
@@ -327,12 +365,27 @@ def dependencies(aug: AugmentedBondGraph) -> tuple[list[int], list[tuple[int, ..
     input; a storage element in derivative causality depends on its input
     variable (it is differentiated).
 
+    Parameters
+    ----------
+    aug : AugmentedBondGraph
+        A graph with causality assigned.
+
     Returns
     -------
     producer : list of int
         Index (into ``aug.flat.elements``) of the element computing each variable.
     inputs : list of tuple of int
         The variables that element reads to compute it.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> from bondgraph.causality import dependencies
+    >>> g = bg.BondGraph("rl")
+    >>> g.add(bg.Se("V"), bg.One("j"), bg.R("R"), bg.I("L"))
+    >>> for tail, head in [("V", "j"), ("j", "R"), ("j", "L")]: _ = g.connect(tail, head)
+    >>> dependencies(bg.assign_causality(g))   # elements: V, j, R, L
+    ([0, 1, 2, 1, 1, 3], [(), (5,), (3,), (5,), (0, 2), ()])
     """
     flat = aug.flat
     bonds = flat.bonds

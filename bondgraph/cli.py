@@ -295,7 +295,19 @@ def _cmd_draw(args) -> None:
 
 # --------------------------------------------------------------------------- parser
 def build_parser() -> argparse.ArgumentParser:
-    """The argument parser (exposed for documentation tools and tests)."""
+    """The argument parser (exposed for documentation tools and tests).
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        With sub-commands ``equations``, ``tf``, ``export`` and ``draw``.
+
+    Examples
+    --------
+    >>> args = build_parser().parse_args(["export", "motor.py", "-o", "motor.json"])
+    >>> args.command, args.model, args.output, args.format
+    ('export', 'motor.py', 'motor.json', None)
+    """
     from . import __version__
 
     parser = argparse.ArgumentParser(
@@ -356,6 +368,33 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     ----------
     argv : sequence of str, optional
         Arguments without the program name; default ``sys.argv[1:]``.
+
+    Returns
+    -------
+    int
+        The exit status.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> src = ('import bondgraph as bg\\n'
+    ...        'from bondgraph.modelfile import ModelDefinition\\n'
+    ...        'def model():\\n'
+    ...        '    g = bg.BondGraph("mass"); g.add(bg.Se("F"), bg.I("m")); g.connect("F", "m")\\n'
+    ...        '    return ModelDefinition(g, {"v": bg.flow("m")}, {"m": 2.0})\\n')
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     path = pathlib.Path(d, "mass.py")
+    ...     _ = path.write_text(src)
+    ...     main(["equations", str(path)])
+    model 'mass'
+    states (1): p_m
+    inputs (1): F
+    outputs (1): v
+    parameters (1): m = 2
+    <BLANKLINE>
+    dp_m/dt = F
+    v = p_m/m
+    0
     """
     parser = build_parser()
     try:

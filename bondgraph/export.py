@@ -110,6 +110,13 @@ def atomic_write_many(items: Sequence[tuple[PathLike, Callable[[Any], None]]], *
     temporary files renamed over their targets.  On any failure every
     temporary file is removed and :class:`ExportError` names the path.
 
+    Parameters
+    ----------
+    items : sequence of (path, writer)
+        Each target path with the callable that writes its content.
+    binary : bool, default True
+        Open the temporary files in binary (``"wb"``) or text mode.
+
     Examples
     --------
     >>> import tempfile, os
@@ -142,6 +149,15 @@ def atomic_write_many(items: Sequence[tuple[PathLike, Callable[[Any], None]]], *
 
 def atomic_write(path: PathLike, writer: Callable[[Any], None], *, binary: bool = True) -> None:
     """Write one file atomically: ``writer(fileobj)`` into a temp file, then rename.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The target file.
+    writer : callable
+        ``writer(fileobj)`` writes the content into the open temporary file.
+    binary : bool, default True
+        Open the temporary file in binary (``"wb"``) or text mode.
 
     Raises
     ------
@@ -244,10 +260,30 @@ def _mat_dict(plant: NumericStateSpace) -> dict[str, Any]:
 def export_mat(plant: NumericStateSpace, path: PathLike) -> None:
     """Write a MATLAB/Octave ``.mat`` file (see the module docstring for its variables).
 
+    Parameters
+    ----------
+    plant : NumericStateSpace
+        The plant to write.
+    path : str or path-like
+        The file to write (replaced whole if it exists).
+
     Raises
     ------
     ExportError
         Naming ``path``; nothing is left behind.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> from bondgraph.numeric import NumericStateSpace
+    >>> ss = NumericStateSpace([[-1.0]], [[1.0]], [[2.0]], [[0.0]], ("x",), ("u",), ("y",),
+    ...                        {"tau": 1.0}, "lag")
+    >>> import scipy.io
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     export_mat(ss, os.path.join(d, "lag.mat"))
+    ...     m = scipy.io.loadmat(os.path.join(d, "lag.mat"))
+    >>> m["C"], str(m["model_name"][0])
+    (array([[2.]]), 'lag')
     """
     import scipy.io
 
@@ -261,10 +297,30 @@ def export_npz(plant: NumericStateSpace, path: PathLike) -> None:
 
     The file is written to exactly ``path`` (no ``.npz`` is appended).
 
+    Parameters
+    ----------
+    plant : NumericStateSpace
+        The plant to write.
+    path : str or path-like
+        The file to write (replaced whole if it exists).
+
     Raises
     ------
     ExportError
         Naming ``path``; nothing is left behind.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> from bondgraph.numeric import NumericStateSpace
+    >>> ss = NumericStateSpace([[-1.0]], [[1.0]], [[2.0]], [[0.0]], ("x",), ("u",), ("y",),
+    ...                        {"tau": 1.0}, "lag")
+    >>> import numpy as np
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     export_npz(ss, os.path.join(d, "lag.npz"))
+    ...     with np.load(os.path.join(d, "lag.npz")) as z:
+    ...         z["A"], z["state_names"], z["parameter_values"]
+    (array([[-1.]]), array(['x'], dtype='<U1'), array([1.]))
     """
     p = _check_plant(plant)
     pnames = list(p.parameters)
@@ -322,11 +378,32 @@ def _json_text(doc: dict[str, Any]) -> str:
 def export_json(plant: NumericStateSpace, path: PathLike) -> None:
     """Write the JSON format ``bondgraph-statespace`` version 1 (module docstring).
 
+    Parameters
+    ----------
+    plant : NumericStateSpace
+        The plant to write.
+    path : str or path-like
+        The file to write (replaced whole if it exists).
+
     Raises
     ------
     ExportError
         Naming ``path`` -- also when a matrix entry is NaN or infinite, which
         JSON cannot represent; nothing is left behind.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> from bondgraph.numeric import NumericStateSpace
+    >>> ss = NumericStateSpace([[-1.0]], [[1.0]], [[2.0]], [[0.0]], ("x",), ("u",), ("y",),
+    ...                        {"tau": 1.0}, "lag")
+    >>> import json
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     export_json(ss, os.path.join(d, "lag.json"))
+    ...     with open(os.path.join(d, "lag.json")) as fh:
+    ...         doc = json.load(fh)
+    >>> doc["format"], doc["model"], doc["A"], doc["parameters"]
+    ('bondgraph-statespace', 'lag', [[-1.0]], {'tau': 1.0})
     """
     doc = to_json_dict(plant)
     try:
@@ -339,10 +416,31 @@ def export_json(plant: NumericStateSpace, path: PathLike) -> None:
 def load_json(path: PathLike) -> NumericStateSpace:
     """Read a ``bondgraph-statespace`` JSON file back into a :class:`NumericStateSpace`.
 
+    Parameters
+    ----------
+    path : str or path-like
+        A file written by :func:`export_json` (or following its format).
+
+    Returns
+    -------
+    NumericStateSpace
+
     Raises
     ------
     ExportError
         If the file cannot be read, is not JSON, or does not follow the format.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> from bondgraph.numeric import NumericStateSpace
+    >>> ss = NumericStateSpace([[-1.0]], [[1.0]], [[2.0]], [[0.0]], ("x",), ("u",), ("y",),
+    ...                        {"tau": 1.0}, "lag")
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     export_json(ss, os.path.join(d, "lag.json"))
+    ...     back = load_json(os.path.join(d, "lag.json"))
+    >>> back.name, back.state_names, back.B, dict(back.parameters)
+    ('lag', ('x',), array([[1.]]), {'tau': 1.0})
     """
     target = _target(path)
     try:
@@ -374,6 +472,15 @@ def load_json(path: PathLike) -> NumericStateSpace:
 
 def export(plant: NumericStateSpace, path: PathLike, *, format: Optional[str] = None) -> None:
     """Write ``plant`` in the format given or implied by the suffix (.mat, .npz, .json).
+
+    Parameters
+    ----------
+    plant : NumericStateSpace
+        The plant to write.
+    path : str or path-like
+        The file to write (replaced whole if it exists).
+    format : {'mat', 'npz', 'json'}, optional
+        Default: from the suffix of ``path``.
 
     Raises
     ------

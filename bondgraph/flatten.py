@@ -34,7 +34,20 @@ __all__ = ["FlatGraph", "flatten"]
 
 @dataclass(frozen=True)
 class FlatGraph:
-    """A one-level bond graph: resolved elements and numbered bonds."""
+    """A one-level bond graph: resolved elements and numbered bonds.
+
+    Returned by :func:`flatten`.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("mass")
+    >>> g.add(bg.Se("F"), bg.I("m"))
+    >>> _ = g.connect("F", "m")
+    >>> flat = bg.flatten(g)
+    >>> flat.element("m"), str(flat.bond(1)), dict(flat.incidence)
+    (I(name='m', parameter=m, law=None, inverse=None), '1: F -> m', {'F': (0,), 'm': (0,)})
+    """
 
     name: str
     elements: tuple[Element, ...]
@@ -66,12 +79,30 @@ class FlatGraph:
 def flatten(graph: BondGraph) -> FlatGraph:
     """Expand sub-models and join ports; check bond counts.
 
+    Parameters
+    ----------
+    graph : BondGraph
+        The (possibly hierarchical) graph to flatten.
+
+    Returns
+    -------
+    FlatGraph
+
     Raises
     ------
     PortError
         For a port left dangling.
     ModelStructureError
         For an element with too few bonds.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("mass")
+    >>> g.add(bg.Se("F"), bg.I("m"))
+    >>> _ = g.connect("F", "m")
+    >>> [el.label() for el in bg.flatten(g).elements]
+    ['Se:F', 'I:m']
     """
     elements: dict[str, Element] = {}
     ports: dict[str, str] = {}  # port path -> graph that owns it

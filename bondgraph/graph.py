@@ -34,6 +34,16 @@ class Bond:
 
     ``number`` is the creation order within the graph that holds it (from 1).
     Endpoint names are paths: ``"Ra"`` or, for a sub-model port, ``"motor.shaft"``.
+    Bonds are returned by :meth:`BondGraph.connect`.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("mass")
+    >>> g.add(bg.Se("F"), bg.I("m"))
+    >>> b = g.connect("F", "m")
+    >>> b, str(b), b.other("F")
+    (Bond(number=1, tail='F', head='m'), '1: F -> m', 'm')
     """
 
     number: int

@@ -60,6 +60,14 @@ class Signal(sympy.Symbol):
     kind : {'effort', 'flow', 'displacement', 'momentum'}
     target : str or int
         Element name (hierarchical, ``"motor.J"``) or bond number.
+
+    Examples
+    --------
+    >>> s = Signal("flow", "motor.J")
+    >>> s, s.variable, s.target
+    (flow[motor.J], 'flow', 'motor.J')
+    >>> Signal("effort[3]").target
+    3
     """
 
     def __new__(cls, kind: str, target: Target | None = None, **assumptions):
@@ -91,7 +99,22 @@ class Signal(sympy.Symbol):
 
 
 class LawVariable(sympy.Symbol):
-    """The own variable of an element in a constitutive law (p, q, e or f)."""
+    """The own variable of an element in a constitutive law (p, q, e or f).
+
+    Parameters
+    ----------
+    name : str
+        The symbol's name; the module provides :data:`p`, :data:`q`,
+        :data:`e` and :data:`f`.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> bg.q, bg.q.is_real
+    (q, True)
+    >>> bg.C("spring", law=2*bg.q + bg.q**3).forward()
+    q**3 + 2*q
+    """
 
     def __new__(cls, name: str):
         return super().__new__(cls, name, real=True)
@@ -103,6 +126,11 @@ class LawVariable(sympy.Symbol):
 def effort(target: Target) -> Signal:
     """Effort of an element (its bond) or of bond number ``target``.
 
+    Parameters
+    ----------
+    target : str or int
+        Element name (hierarchical, ``"motor.J"``) or bond number.
+
     Examples
     --------
     >>> effort("Ra")
@@ -113,6 +141,11 @@ def effort(target: Target) -> Signal:
 
 def flow(target: Target) -> Signal:
     """Flow of an element, of a 1-junction (its common flow), or of a bond.
+
+    Parameters
+    ----------
+    target : str or int
+        Element name (hierarchical, ``"motor.J"``) or bond number.
 
     Examples
     --------
@@ -127,6 +160,11 @@ def displacement(target: Target) -> Signal:
 
     Adds an integrator state when the displacement is not already a state.
 
+    Parameters
+    ----------
+    target : str or int
+        Element name (hierarchical, ``"motor.J"``) or bond number.
+
     Examples
     --------
     >>> displacement("J").variable
@@ -137,6 +175,11 @@ def displacement(target: Target) -> Signal:
 
 def momentum(target: Target) -> Signal:
     """Time integral of the effort: p of an I, or an added integrator.
+
+    Parameters
+    ----------
+    target : str or int
+        Element name (hierarchical, ``"motor.J"``) or bond number.
 
     Examples
     --------

@@ -44,7 +44,18 @@ __all__ = ["ModeData", "ModalFragment", "modal_fragment", "beam_fragment"]
 
 @dataclass(frozen=True)
 class ModeData:
-    """Numbers of one mode: mass, stiffness, damping, root gain, tip gain."""
+    """Numbers of one mode: mass, stiffness, damping, root gain, tip gain.
+
+    Input of :func:`modal_fragment`; the root gain is ``phi'(0)`` and the tip
+    gain ``phi(L)``.
+
+    Examples
+    --------
+    >>> md = ModeData(mass=1.0, stiffness=4.0, damping=0.1, root=0.5, tip=2.0)
+    >>> frag = modal_fragment([md], name="b")
+    >>> frag.values
+    {'b.m_1': 1.0, 'b.k_1': 4.0, 'b.a_1': 0.5, 'b.c_1': 0.1, 'b.b_1': 2.0}
+    """
 
     mass: float
     stiffness: float
@@ -69,6 +80,15 @@ class ModalFragment:
         Whether the rigid-body mode ``m_0`` is included.
     length : float
         Lever arm of the rigid mode at the tip (``r + L``).
+
+    Examples
+    --------
+    >>> from bondgraph.beam import modal_beam
+    >>> frag = beam_fragment(modal_beam(1.0, 1.0, 1.0, 2, boundary="pinned-free"), name="link")
+    >>> frag.name, frag.graph.ports, frag.n_modes, frag.rigid, frag.length
+    ('link', ('hub',), 2, True, 1.0)
+    >>> frag.symbol("k_1"), frag.tip_deflection(relative=True)
+    (link.k_1, displacement[k_1]*(-1.0*link.a_1 + link.b_1) + displacement[k_2]*(-1.0*link.a_2 + link.b_2))
     """
 
     graph: BondGraph
@@ -202,6 +222,25 @@ def beam_fragment(beam: Union[ModalBeam, HubBeamModes], *, name: str = "beam", r
     :class:`ModalBeam` the rigid mode is ``phi_0 = x`` with inertia
     ``rhoA L^3/3``; a clamped-free beam has no rigid mode and, by default,
     no hub port (its root is clamped to ground).
+
+    Parameters
+    ----------
+    beam : ModalBeam or HubBeamModes
+        The modes to turn into a fragment.
+    name : str
+        Graph name, prefix of the modal symbols.
+    rigid : bool
+        Include the rigid-body mode (pinned-free beams and hub modes only).
+    tip_port : bool
+        Expose ``Port('tip')``.
+    hub_port : bool, optional
+        Expose ``Port('hub')``; default: except for a clamped-free beam.
+    damping_ratio : float or sequence of float
+        Modal damping ratio (one value for all modes or one per mode).
+
+    Returns
+    -------
+    ModalFragment
 
     Examples
     --------

@@ -61,6 +61,15 @@ class HubMode:
         Beam length.
     coefficients : tuple of 4 floats
         ``w(x) = c0 cos(bx) + c1 sin(bx) + c2 exp(-bx) + c3 exp(-b(L-x))``.
+
+    Examples
+    --------
+    >>> from bondgraph.beam import hub_beam_modes
+    >>> mode = hub_beam_modes(1.0, 1.0, 1.0, 2, hub_inertia=1.0).modes[0]
+    >>> mode.number, round(mode.betaL, 4), round(mode.omega, 4), round(mode.hub_angle, 6)
+    (1, 2.01, 4.0401, -0.490086)
+    >>> abs(mode.shape(1.0) - mode.tip_value) < 1e-12
+    True
     """
 
     number: int
@@ -88,6 +97,13 @@ class HubBeamModes:
 
     Built by :func:`hub_beam_modes`; attributes mirror its arguments plus
     ``betaL`` and ``modes`` (tuple of :class:`HubMode`).
+
+    Examples
+    --------
+    >>> from bondgraph.beam import hub_beam_modes
+    >>> s = hub_beam_modes(1.0, 1.0, 1.0, 2, hub_inertia=1.0)
+    >>> s.n_modes, round(s.total_inertia, 6), [round(float(w), 4) for w in s.omega]
+    (2, 1.333333, [4.0401, 22.1257])
     """
 
     EI: float
@@ -234,6 +250,16 @@ class AssumedModesModel:
         ``B`` for a hub torque (also the hub-angle output row).
     tip_output : tuple of float
         Row giving the absolute tip deflection ``w(L)``.
+
+    Examples
+    --------
+    >>> from bondgraph.beam import modal_beam, hub_assumed_modes
+    >>> model = hub_assumed_modes(modal_beam(1.0, 1.0, 1.0, 2), hub_inertia=1.0)
+    >>> M, C, K = model.matrices()
+    >>> M.shape, model.torque_input, [round(v, 6) for v in model.tip_output]
+    ((3, 3), (1.0, 0.0, 0.0), [1.0, 2.0, 2.0])
+    >>> round(float(M[0, 0]), 6)          # J_h + rhoA L^3/3
+    1.333333
     """
 
     coordinates: tuple[str, ...]

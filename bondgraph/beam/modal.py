@@ -77,6 +77,15 @@ class BeamMode:
         Beam length.
     coefficients : tuple of 4 floats
         ``phi(x) = c0 cos(bx) + c1 sin(bx) + c2 exp(-bx) + c3 exp(-b(L-x))``.
+
+    Examples
+    --------
+    >>> from bondgraph.beam import modal_beam
+    >>> mode = modal_beam(1.0, 1.0, 1.0, 2).modes[0]
+    >>> mode.number, round(mode.betaL, 6), round(mode.omega, 4), mode.mass
+    (1, 1.875104, 3.516, 1.0)
+    >>> round(mode.tip_value, 6), round(mode.frequency_hz, 4)  # mass-normalised: phi(L) = 2
+    (2.0, 0.5596)
     """
 
     number: int
@@ -161,6 +170,15 @@ class ModalBeam:
         Eigenvalues ``beta_i L``.
     modes : tuple of BeamMode
         Per-mode data and shape functions.
+
+    Examples
+    --------
+    >>> from bondgraph.beam import modal_beam
+    >>> b = modal_beam(1.0, 1.0, 1.0, 2, boundary="pinned-free")
+    >>> b.n_modes, [round(v, 4) for v in b.betaL], round(b.rigid_inertia, 6)
+    (2, [3.9266, 7.0686], 0.333333)
+    >>> b.modal_mass.tolist(), len(b.modes)
+    ([1.0, 1.0], 2)
     """
 
     EI: float

@@ -49,6 +49,16 @@ class SymbolicMode:
     phi : sympy.Expr
         Shape ``phi_i(x)`` in the bounded form
         ``c0 cos(b x) + c1 sin(b x) + c2 exp(-b x) + c3 exp(-b (L - x))``, ``b = betaL/L``.
+
+    Examples
+    --------
+    >>> from bondgraph.beam import modal_beam, beam_symbols
+    >>> EI, rhoA, L, x = beam_symbols()
+    >>> mode = modal_beam(1.0, 1.0, 1.0, 1, normalization="tip").symbolic()[0]
+    >>> mode.number, round(float(mode.betaL), 6), mode.mass, mode.damping
+    (1, 1.875104, 0.25*L*rhoA, 0)
+    >>> mode.stiffness.free_symbols == {EI, L}       # k = m omega^2: rhoA cancels
+    True
     """
 
     number: int

@@ -98,6 +98,21 @@ class CCode:
         Model name of each state, input and parameter -> C identifier used
         in the code (they differ when a name is not a C identifier, such as
         ``motor.Ra`` -> ``motor_Ra``).
+    header, source : str
+        The text of the ``.h`` and ``.c`` files.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("mass")
+    >>> g.add(bg.Se("F"), bg.I("m"))
+    >>> _ = g.connect("F", "m")
+    >>> model = bg.derive(g, outputs={"v": bg.flow("m")})
+    >>> code = generate_c(model, defaults={"m": 2.0})
+    >>> code.name, code.header_file, dict(code.identifiers)
+    ('mass', 'mass.h', {'p_m': 'p_m', 'F': 'F', 'm': 'm'})
+    >>> [line.strip() for line in code.source.splitlines() if "xdot[0] =" in line or "y[0] =" in line]
+    ['xdot[0] = F;', 'y[0] = p_m/m;']
     """
 
     name: str
@@ -164,6 +179,17 @@ def generate_c(model: Model, *, name: Optional[str] = None,
         A bad name, a function with no C equivalent, or input derivatives.
     ParameterValueError
         ``defaults`` missing or naming unknown parameters.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("mass")
+    >>> g.add(bg.Se("F"), bg.I("m"))
+    >>> _ = g.connect("F", "m")
+    >>> model = bg.derive(g, outputs={"v": bg.flow("m")})
+    >>> code = generate_c(model, name="plant")
+    >>> [line for line in code.header.splitlines() if line.startswith("#define PLANT_N")]
+    ['#define PLANT_NX 1', '#define PLANT_NU 1', '#define PLANT_NY 1', '#define PLANT_NP 1']
     """
     prefix = check_identifier(name if name is not None else model.name, what="C name prefix",
                               reserved=C_RESERVED)
@@ -252,6 +278,16 @@ def write_c(model: Model, path: Union[str, "os.PathLike[str]"], *, name: Optiona
     ``path`` may end in ``.c`` or have no suffix.  The C prefix defaults to
     the model's name.
 
+    Parameters
+    ----------
+    model : Model
+    path : str or path-like
+        The ``.c`` file (or its stem); the header gets the suffix ``.h``.
+    name : str, optional
+        Prefix of the C symbols; default: the model's name.
+    defaults : mapping of str to float, optional
+        Values for every parameter, emitted as ``NAME_default_parameters``.
+
     Returns
     -------
     (Path, Path)
@@ -260,6 +296,19 @@ def write_c(model: Model, path: Union[str, "os.PathLike[str]"], *, name: Optiona
     Raises
     ------
     CodegenError, ExportError
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("mass")
+    >>> g.add(bg.Se("F"), bg.I("m"))
+    >>> _ = g.connect("F", "m")
+    >>> model = bg.derive(g, outputs={"v": bg.flow("m")})
+    >>> import tempfile, pathlib
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     src, hdr = write_c(model, pathlib.Path(d, "mass.c"))
+    ...     src.name, hdr.name, '#include "mass.h"' in src.read_text()
+    ('mass.c', 'mass.h', True)
     """
     from ..export import atomic_write_many
 

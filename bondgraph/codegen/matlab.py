@@ -84,6 +84,17 @@ def generate_matlab(model: Model, *, name: Optional[str] = None,
     CodegenError
         A name that is not a MATLAB identifier, an unsupported function, or
         input derivatives.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("mass")
+    >>> g.add(bg.Se("F"), bg.I("m"))
+    >>> _ = g.connect("F", "m")
+    >>> model = bg.derive(g, outputs={"v": bg.flow("m")})
+    >>> text = generate_matlab(model, defaults={"m": 2.0})
+    >>> [line for line in text.splitlines() if line.startswith(("function", "xdot(", "y("))]
+    ['function [xdot, y] = mass(t, x, u, p)', 'xdot(1) = F;', 'y(1) = p_m./m;']
     """
     fname = check_identifier(name if name is not None else model.name, what="MATLAB function name",
                              matlab=True, reserved=M_RESERVED)
@@ -126,12 +137,38 @@ def write_matlab(model: Model, path: Union[str, "os.PathLike[str]"], *,
                  defaults: Optional[Mapping[str, float]] = None) -> Path:
     """Write ``path`` (``NAME.m``) atomically; the function is named after the file.
 
+    Parameters
+    ----------
+    model : Model
+    path : str or path-like
+        The ``.m`` file to write; its stem names the function.
+    defaults : mapping of str to float, optional
+        Values for every parameter, returned by ``info = NAME()``.
+
+    Returns
+    -------
+    Path
+        The file written.
+
     Raises
     ------
     CodegenError
         If the file stem is not a valid MATLAB function name.
     ExportError
         If the file cannot be written.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("mass")
+    >>> g.add(bg.Se("F"), bg.I("m"))
+    >>> _ = g.connect("F", "m")
+    >>> model = bg.derive(g, outputs={"v": bg.flow("m")})
+    >>> import tempfile, pathlib
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     path = write_matlab(model, pathlib.Path(d, "mass_ode.m"))
+    ...     path.name, path.read_text().splitlines()[0]
+    ('mass_ode.m', 'function [xdot, y] = mass_ode(t, x, u, p)')
     """
     return write_text(path, ".m", "MATLAB",
                       lambda p: generate_matlab(model, name=p.stem, defaults=defaults))

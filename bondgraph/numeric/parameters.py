@@ -35,6 +35,16 @@ ParameterValues = Mapping[Union[sympy.Symbol, str], Any]
 def parameter_name(key: object) -> str:
     """The name a parameter key stands for (a Symbol's name, or the str itself).
 
+    Parameters
+    ----------
+    key : sympy.Symbol or str
+        A key of a parameter-value mapping.
+
+    Raises
+    ------
+    ParameterValueError
+        For any other kind of key.
+
     Examples
     --------
     >>> import sympy

@@ -205,6 +205,19 @@ class BatchStateSpace:
     parameter_values : numpy.ndarray
         Shape ``(P, k)``, one row per parameter set, columns as ``parameter_names``.
     name : str
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("rc")
+    >>> g.add(bg.Se("V"), bg.One("i"), bg.R("R"), bg.C("C"))
+    >>> for tail, head in [("V", "i"), ("i", "R"), ("i", "C")]: _ = g.connect(tail, head)
+    >>> model = bg.derive(g, outputs={"vC": bg.effort("C")})
+    >>> plants = bg.compile_plant(model).batch({"R": [1.0, 2.0, 4.0], "C": 1.0})
+    >>> plants, plants.A.shape, plants.eigenvalues().real.ravel()
+    (BatchStateSpace('rc': 3 plants, 1 states, 1 inputs, 1 outputs), (3, 1, 1), array([-1.  , -0.5 , -0.25]))
+    >>> plants[1].parameters["R"]
+    2.0
     """
 
     A: np.ndarray
@@ -410,6 +423,15 @@ def _real_constant(ex: sympy.Expr, label: str, i: int, j: int, name: str) -> flo
 def compile_plant(model: Model) -> NumericModel:
     """Compile a linear model's ``A, B, C, D`` once; see :class:`NumericModel`.
 
+    Parameters
+    ----------
+    model : Model
+        A linear model (from :func:`bondgraph.derive`).
+
+    Returns
+    -------
+    NumericModel
+
     Examples
     --------
     >>> import bondgraph as bg
@@ -423,6 +445,17 @@ def compile_plant(model: Model) -> NumericModel:
 
 def numeric_plant(model: Model, values: ParameterValues) -> NumericStateSpace:
     """One-off numeric plant: ``compile_plant(model).plant(values)``.
+
+    Parameters
+    ----------
+    model : Model
+        A linear model (from :func:`bondgraph.derive`).
+    values : mapping of Symbol or str to float
+        A value for every parameter of the model.
+
+    Returns
+    -------
+    NumericStateSpace
 
     Examples
     --------

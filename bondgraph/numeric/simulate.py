@@ -121,6 +121,15 @@ class NumericDynamics(_CompiledModel):
 def compile_dynamics(model: Model) -> NumericDynamics:
     """Compile a model's equations once for simulation; see :class:`NumericDynamics`.
 
+    Parameters
+    ----------
+    model : Model
+        The symbolic model (nonlinear and time-varying models allowed).
+
+    Returns
+    -------
+    NumericDynamics
+
     Examples
     --------
     >>> import bondgraph as bg
@@ -146,6 +155,18 @@ class SimulationResult:
     state_names, input_names, output_names : tuple of str
     parameters : mapping of str to float
     name : str
+
+    Examples
+    --------
+    >>> import numpy as np, bondgraph as bg
+    >>> g = bg.BondGraph("mass")
+    >>> g.add(bg.Se("F"), bg.I("m")); _ = g.connect("F", "m")
+    >>> model = bg.derive(g, outputs={"v": bg.flow("m")})
+    >>> res = bg.simulate(model, {"m": 2.0}, (0.0, 1.0), u=[3.0], t_eval=[0.0, 0.5, 1.0])
+    >>> res, res.x.shape, res.output_names
+    (SimulationResult('mass': 3 samples, t = 0..1), (3, 1), ('v',))
+    >>> np.allclose(res["v"], [0.0, 0.75, 1.5]), np.allclose(res["p_m"], 2.0 * res["v"])
+    (True, True)
     """
 
     t: np.ndarray
@@ -276,6 +297,17 @@ def simulate(model: Union[Model, NumericDynamics], params: ParameterValues,
         Bad ``x0`` or ``u`` shapes.
     SimulationError
         The solver failed.
+
+    Examples
+    --------
+    >>> import numpy as np, bondgraph as bg
+    >>> g = bg.BondGraph("mass")
+    >>> g.add(bg.Se("F"), bg.I("m")); _ = g.connect("F", "m")
+    >>> model = bg.derive(g, outputs={"v": bg.flow("m")})
+    >>> res = simulate(model, {"m": 2.0}, (0.0, 2.0), x0={"p_m": 1.0}, u=lambda t: [1.0],
+    ...                t_eval=[2.0])
+    >>> np.allclose(res["v"], [1.5])            # v(2) = (p0 + F*t)/m
+    True
     """
     from scipy.integrate import solve_ivp
 
@@ -314,6 +346,19 @@ def to_nonlinear_iosys(model: Union[Model, NumericDynamics], params: ParameterVa
     Parameter values are fixed here; python-control's own ``params`` are
     ignored.  Signal names with ``'.'`` are given with ``'_'`` (python-control
     forbids dots; see :func:`~bondgraph.numeric.control_labels`).
+
+    Parameters
+    ----------
+    model : Model or NumericDynamics
+        Pass a :class:`NumericDynamics` to reuse its compiled functions.
+    params : mapping of Symbol or str to float
+        Exactly the model's parameters.
+    name : str, optional
+        The system's name; default: the model's name.
+
+    Returns
+    -------
+    control.NonlinearIOSystem
 
     Examples
     --------
