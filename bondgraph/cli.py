@@ -53,6 +53,15 @@ def load_params(path: "str | os.PathLike[str]") -> dict[str, float]:
     ``motor.Ra``).  Every value must be a finite real number (not a bool, not
     a string).
 
+    Parameters
+    ----------
+    path : str or path-like
+        A ``.json`` or ``.toml`` file.
+
+    Returns
+    -------
+    dict of str to float
+
     Raises
     ------
     ParamsFileError

@@ -49,7 +49,8 @@ def bond_graphs(draw):
     return g
 
 
-@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@settings(max_examples=60, deadline=None, derandomize=True,
+          suppress_health_check=[HealthCheck.too_slow])
 @given(bond_graphs(), st.integers(0, 2**31 - 1))
 def test_power_balance(g, seed):
     try:

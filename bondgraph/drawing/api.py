@@ -108,6 +108,15 @@ def repr_svg(obj: Drawable) -> Optional[str]:
     open ports (a sub-model on its own) is drawn unexpanded.  Returns None
     when nothing can be drawn, which tells IPython to fall back to text.
 
+    Parameters
+    ----------
+    obj : BondGraph, AugmentedBondGraph, FlatGraph or Model
+        What to draw.
+
+    Returns
+    -------
+    str or None
+
     Examples
     --------
     >>> import bondgraph as bg

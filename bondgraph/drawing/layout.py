@@ -336,6 +336,13 @@ Box = tuple[float, float, float, float]  # x, y (top-left), width, height
 def boxes_overlap(a: Box, b: Box, *, margin: float = 0.0) -> bool:
     """Whether two ``(x, y, width, height)`` boxes overlap (touching is not overlap).
 
+    Parameters
+    ----------
+    a, b : (float, float, float, float)
+        Boxes as top-left corner, width and height.
+    margin : float
+        Extra clearance: boxes closer than this also count as overlapping.
+
     Examples
     --------
     >>> boxes_overlap((0, 0, 10, 10), (5, 5, 10, 10)), boxes_overlap((0, 0, 10, 10), (10, 0, 5, 5))
@@ -349,6 +356,17 @@ def boxes_overlap(a: Box, b: Box, *, margin: float = 0.0) -> bool:
 
 def overlapping_pairs(boxes: Mapping[str, Box], *, margin: float = 0.0) -> list[tuple[str, str]]:
     """Pairs of names whose boxes overlap.
+
+    Parameters
+    ----------
+    boxes : mapping of str to (float, float, float, float)
+        Name -> box (top-left corner, width, height).
+    margin : float
+        Extra clearance, as in :func:`boxes_overlap`.
+
+    Returns
+    -------
+    list of (str, str)
 
     Examples
     --------

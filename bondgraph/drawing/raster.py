@@ -36,6 +36,15 @@ _PX = 100.0  # figure dpi at scale 1: one scene px is one image px
 def scene_figure(scene: Scene) -> Figure:
     """A matplotlib Figure showing the scene (1 px of the scene = 1/100 inch).
 
+    Parameters
+    ----------
+    scene : Scene
+        From :func:`~bondgraph.drawing.scene.build_scene`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
     Examples
     --------
     >>> import bondgraph as bg
@@ -114,6 +123,15 @@ def scene_figure(scene: Scene) -> Figure:
 
 def write_png(scene: Scene, target: Union[str, BinaryIO], *, dpi: float = 150.0) -> None:
     """Render the scene to PNG (``dpi=100`` gives one image pixel per scene px).
+
+    Parameters
+    ----------
+    scene : Scene
+        From :func:`~bondgraph.drawing.scene.build_scene`.
+    target : str or binary file object
+        Where to write the PNG.
+    dpi : float
+        Resolution of the image.
 
     Examples
     --------

@@ -90,7 +90,23 @@ def text_width(text: str, size: float, bold: bool = False) -> float:
 
 
 def label_font(kind: str) -> tuple[float, bool]:
-    """Font size (px) and boldness of a node's main text."""
+    """Font size (px) and boldness of a node's main text.
+
+    Parameters
+    ----------
+    kind : str
+        The node kind (``'R'``, ``'1'``, ``'sub'``, ...), as in
+        :class:`~bondgraph.drawing.source.Node`.
+
+    Returns
+    -------
+    (float, bool)
+
+    Examples
+    --------
+    >>> label_font("1"), label_font("R"), label_font("sub")
+    ((15.0, True), (14.0, False), (14.0, True))
+    """
     if kind in JUNCTIONS:
         return FONT + 1, True
     return FONT, kind == "sub"
@@ -106,6 +122,17 @@ class Label:
 
     ``x, y`` is the centre of the main text; ``box`` is ``(x, y, w, h)`` with
     its top-left corner and covers the main text and the note.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("rl")
+    >>> g.add(bg.Se("V"), bg.One("j"), bg.R("R"), bg.I("L"))
+    >>> for tail, head in [("V", "j"), ("j", "R"), ("j", "L")]: _ = g.connect(tail, head)
+    >>> from bondgraph.drawing.source import diagram
+    >>> lb = build_scene(diagram(g)).label("j")
+    >>> lb.kind, lb.text, lb.note, lb.color, len(lb.box)
+    ('1', '1', 'j', '#222222', 4)
     """
 
     name: str
@@ -154,6 +181,17 @@ class BondShape:
     control : point or None
         Control point of a bond bent round a label (a quadratic Bezier curve
         from ``start`` to ``end``); None for a straight bond.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("rl")
+    >>> g.add(bg.Se("V"), bg.One("j"), bg.R("R"), bg.I("L"))
+    >>> for tail, head in [("V", "j"), ("j", "R"), ("j", "L")]: _ = g.connect(tail, head)
+    >>> from bondgraph.drawing.source import diagram
+    >>> b = build_scene(diagram(g)).bonds[2]
+    >>> b.number, b.tail, b.head, b.stroke_end, b.control, b.loop
+    (3, 'j', 'L', 'L', None, False)
     """
 
     number: int
@@ -176,7 +214,21 @@ class BondShape:
 
 @dataclass(frozen=True)
 class Scene:
-    """Everything to draw, in px (``y`` downward)."""
+    """Everything to draw, in px (``y`` downward); made by :func:`build_scene`.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("rl")
+    >>> g.add(bg.Se("V"), bg.One("j"), bg.R("R"), bg.I("L"))
+    >>> for tail, head in [("V", "j"), ("j", "R"), ("j", "L")]: _ = g.connect(tail, head)
+    >>> from bondgraph.drawing.source import diagram
+    >>> sc = build_scene(diagram(g))
+    >>> sc.title, sc.causal, len(sc.labels), len(sc.bonds), sc.overlaps()
+    ('rl', True, 4, 3, [])
+    >>> sc.label("R").text
+    'R:R'
+    """
 
     name: str
     width: float

@@ -65,6 +65,15 @@ class Node:
         inside it).
     arbitrary : bool
         An R element whose causality was chosen arbitrarily (algebraic loop).
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("rl")
+    >>> g.add(bg.Se("V"), bg.One("j"), bg.R("R"), bg.I("L"))
+    >>> for tail, head in [("V", "j"), ("j", "R"), ("j", "L")]: _ = g.connect(tail, head)
+    >>> diagram(g).node("j")
+    Node(name='j', kind='1', text='1', note='j', derivative=False, arbitrary=False)
     """
 
     name: str
@@ -93,6 +102,18 @@ class Edge:
         ``sub.port`` for a sub-model box); None without causality.
     loop : bool
         The bond belongs to an algebraic loop.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("rl")
+    >>> g.add(bg.Se("V"), bg.One("j"), bg.R("R"), bg.I("L"))
+    >>> for tail, head in [("V", "j"), ("j", "R"), ("j", "L")]: _ = g.connect(tail, head)
+    >>> edge = diagram(g).edges[0]
+    >>> edge
+    Edge(number=1, tail='V', head='j', tail_port='', head_port='', stroke_end='j', loop=False)
+    >>> edge.stroke_at_head
+    True
     """
 
     number: int
@@ -128,6 +149,16 @@ class Diagram:
         In bond-number order.
     causal : bool
         Whether the edges carry causal strokes.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("rl")
+    >>> g.add(bg.Se("V"), bg.One("j"), bg.R("R"), bg.I("L"))
+    >>> for tail, head in [("V", "j"), ("j", "R"), ("j", "L")]: _ = g.connect(tail, head)
+    >>> d = diagram(g)
+    >>> d.name, d.causal, [n.name for n in d.nodes], len(d.edges)
+    ('rl', True, ['V', 'j', 'R', 'L'], 3)
     """
 
     name: str

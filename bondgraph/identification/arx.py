@@ -89,6 +89,21 @@ class ARXResult:
         ``sigma^2 = ||y - X theta||^2 / (N_eq - na - nb)``.
     n_equations : int
         Number of regression rows ``N_eq`` used.
+
+    Examples
+    --------
+    Returned by :func:`arx`; noise-free data from ``y_k = 0.8 y_{k-1} + 0.5 u_{k-1}``:
+
+    >>> import numpy as np
+    >>> from scipy.signal import lfilter
+    >>> from bondgraph.identification import prbs
+    >>> u = prbs(6)
+    >>> y = lfilter([0.0, 0.5], [1.0, -0.8], u)
+    >>> m = arx(y, u, na=1, nb=1, dt=0.1)
+    >>> m.na, m.nb, m.nk, m.n_equations, m.parameters.round(12) + 0.0, m.poles.round(12)
+    (1, 1, 1, 62, array([-0.8,  0.5]), array([0.8]))
+    >>> np.allclose(m.simulate(u), y), round(float(m.to_continuous().poles()[0].real), 4)
+    (True, -2.2314)
     """
 
     a: NDArray[np.float64]

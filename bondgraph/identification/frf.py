@@ -52,6 +52,18 @@ class FRFResult:
         Segment length, overlap and number of averaged segments.
     window : str or tuple
         Window specification passed to SciPy.
+
+    Examples
+    --------
+    Returned by :func:`estimate_frf`; here for a pure gain of 3:
+
+    >>> import numpy as np
+    >>> x = np.random.default_rng(1).standard_normal(2048)
+    >>> r = estimate_frf(x, 3.0 * x, fs=50.0, nperseg=128)
+    >>> float(r.frequencies[-1]), r.n_segments, r.noverlap, r.resolution
+    (25.0, 31, 64, 0.390625)
+    >>> bool(np.allclose(r.h1[1:], 3.0) and np.allclose(r.coherence[1:], 1.0))
+    True
     """
 
     frequencies: NDArray[np.float64]
@@ -186,6 +198,16 @@ class SpectralPeaks:
         Index of each peak's grid sample.
     prominences : numpy.ndarray
         Prominence of each peak in dB (``10 log10`` of the spectrum).
+
+    Examples
+    --------
+    Returned by :func:`find_modal_peaks`:
+
+    >>> import numpy as np
+    >>> f = np.arange(0, 20, 0.25)
+    >>> p = find_modal_peaks(f, 1 / ((f - 3.3)**2 + 0.04) + 0.5 / ((f - 7.1)**2 + 0.04))
+    >>> p.indices, np.round(p.frequencies, 1), np.round(p.prominences, 1)
+    (array([13, 28]), array([3.3, 7.1]), array([23.7, 14. ]))
     """
 
     frequencies: NDArray[np.float64]

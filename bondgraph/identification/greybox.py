@@ -484,6 +484,24 @@ class GreyboxResult:
         Residual evaluations by the optimiser.
     cost : float
         ``0.5 ||r_w||^2`` at the estimate.
+
+    Examples
+    --------
+    A mass with viscous friction, ``v/F = 1/(m s + b)``, ``b`` fitted to its
+    exact frequency response:
+
+    >>> import numpy as np, bondgraph as bg
+    >>> g = bg.BondGraph("md")
+    >>> g.add(bg.Se("F"), bg.One("v"), bg.I("m"), bg.R("b"))
+    >>> for a, b in [("F", "v"), ("v", "m"), ("v", "b")]: _ = g.connect(a, b)
+    >>> model = bg.derive(g, outputs={"vel": bg.flow("m")})
+    >>> w = np.linspace(0.1, 10.0, 30)
+    >>> r = greybox_fit(model, FrequencyData(w, 1.0 / (2.0j * w + 0.5)), free=["b"],
+    ...                 fixed={"m": 2.0}, initial={"b": 1.0})
+    >>> r.names, r.kind, r.dof, r.rank, r.success, r.output_names
+    (('b',), 'frequency', 59, 1, True, ('vel',))
+    >>> round(r.estimates["b"], 8), round(r.parameters["m"], 8), np.round(r.fit_percent, 4)
+    (0.5, 2.0, array([100.]))
     """
 
     names: tuple[str, ...]

@@ -55,6 +55,18 @@ class RationalFit:
         Number of right-half-plane poles reflected when ``stable=True``.
     weighted_rms_error : float
         ``sqrt(sum w |H - B/A|^2 / sum w)`` of the returned model.
+
+    Examples
+    --------
+    A first-order lag ``3/(s + 2)`` recovered from its samples:
+
+    >>> import numpy as np
+    >>> w = np.linspace(0.1, 10, 50)
+    >>> r = fit_rational_detailed(w, 3.0 / (1j * w + 2.0), num_order=0, den_order=1)
+    >>> r.num.round(10) + 0.0, r.den.round(10) + 0.0, r.poles.round(10) + 0.0
+    (array([3.]), array([1., 2.]), array([-2.]))
+    >>> r.converged, r.reflected_poles, r.zeros.size, bool(r.weighted_rms_error < 1e-10)
+    (True, 0, 0, True)
     """
 
     tf: control.TransferFunction
@@ -239,6 +251,29 @@ def fit_rational(omega: ArrayLike, h: ArrayLike, *, num_order: int, den_order: i
     Same parameters as :func:`fit_rational_detailed`, which also reports
     iteration count, convergence and the weighted error; this returns only
     the :class:`control.TransferFunction`.
+
+    Parameters
+    ----------
+    omega : array_like
+        Angular frequencies ``omega_k >= 0`` in rad/s (distinct).
+    h : array_like of complex
+        Frequency response ``H(j omega_k)``.
+    num_order, den_order : int
+        Degrees of the numerator and of the monic denominator (>= 0).
+    weights : array_like, optional
+        Non-negative weights of the squared errors; default all ones.
+    sk_iterations : int, optional
+        Maximum Sanathanan–Koerner iterations (0: Levy's method alone).
+    tol : float, optional
+        Convergence tolerance on the scaled denominator.
+    stable : bool, optional
+        Reflect right-half-plane poles and re-fit the numerator.
+    scale : bool, optional
+        Normalise frequencies by ``max(omega)`` for conditioning.
+
+    Returns
+    -------
+    control.TransferFunction
 
     Examples
     --------

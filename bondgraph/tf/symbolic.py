@@ -674,7 +674,25 @@ class SymbolicTF:
 # ============================================================ transfer matrices
 @dataclass(frozen=True)
 class NumericTransferMatrix:
-    """All numeric entries ``nums[i][j](s) / den(s)`` sharing one denominator."""
+    """All numeric entries ``nums[i][j](s) / den(s)`` sharing one denominator.
+
+    Returned by :meth:`TransferMatrix.subs`; coefficients are highest power
+    first.  Index ``[output, input]`` (names or indices) for one entry.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> k, m = sp.symbols("k m", positive=True)
+    >>> G = transfer_matrix(sp.Matrix([[0, 1/m], [-k, 0]]), sp.eye(2), sp.eye(2), None,
+    ...                     input_names=["f_q", "F"], output_names=["q", "p"])
+    >>> N = G.subs({"k": 4.0, "m": 1.0})
+    >>> N.den, N.nums[0]
+    ((1.0, 0.0, 4.0), ((1.0, 0.0), (1.0,)))
+    >>> N["q", "F"]
+    NumericTF(num=(1.0,), den=(1.0, 0.0, 4.0), input_name='F', output_name='q', s_name='s')
+    >>> sorted(N.poles().imag.round(12).tolist()), N.to_control().input_labels
+    ([-2.0, 2.0], ['f_q', 'F'])
+    """
 
     nums: tuple[tuple[tuple[float, ...], ...], ...]
     den: tuple[float, ...]
@@ -953,6 +971,30 @@ def transfer_matrix(A, B, C, D=None, *, E=None, input_names: Sequence[str] | Non
     Same arguments as :func:`transfer_function` (without ``input``/``output``
     and ``cancel``: the shared form is uncancelled; index the result to get a
     cancelled entry).
+
+    Parameters
+    ----------
+    A, B, C, D
+        State-space matrices (sympy matrices, nested lists or numpy arrays);
+        ``D`` may be ``None``/``0`` for zero.
+    E
+        Descriptor matrix (``None``: identity).
+    input_names, output_names
+        Names of the columns of ``B`` and rows of ``C``.
+    s
+        The Laplace variable (default ``Symbol('s')``).
+    normalize
+        ``'monic'``, ``'as-derived'`` or ``'leading-one-denominator'``, as in
+        :func:`transfer_function`.
+    method
+        Determinant method: ``'auto'``, ``'laplace'``, ``'bareiss'`` or
+        ``'berkowitz'``.
+    backend
+        Polynomial arithmetic: ``'flint'`` or ``'sympy'``.
+
+    Returns
+    -------
+    TransferMatrix
 
     Examples
     --------

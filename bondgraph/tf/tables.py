@@ -32,6 +32,17 @@ __all__ = ["PoleZeroRow", "PoleZeroTable", "pole_zero_table", "format_number", "
 def format_number(x: float, digits: int = 4) -> str:
     """``x`` with ``digits`` significant digits, no trailing zeros.
 
+    Parameters
+    ----------
+    x : float
+        The number (NaN and infinities are written ``nan``, ``inf``, ``-inf``).
+    digits : int
+        Significant digits.
+
+    Returns
+    -------
+    str
+
     Examples
     --------
     >>> format_number(0.318309886), format_number(2.0), format_number(-1.07e-05)
@@ -66,6 +77,17 @@ def latex_number(x: float, digits: int = 4) -> str:
 def snap_roots(roots: Iterable[complex], tol: float = 1e-9) -> list[complex]:
     """Set real or imaginary parts below ``tol * |root|`` to exactly zero.
 
+    Parameters
+    ----------
+    roots : iterable of complex
+        The roots to clean.
+    tol : float
+        Relative threshold.
+
+    Returns
+    -------
+    list of complex
+
     Examples
     --------
     >>> snap_roots([1e-17 + 2j, -3 + 1e-20j])
@@ -90,6 +112,12 @@ class PoleZeroRow:
 
     ``wn = |value|`` (rad/s), ``hz = wn / 2 pi``, ``zeta = -Re(value) / wn``
     (``nan`` for a root at the origin).
+
+    Examples
+    --------
+    >>> row = pole_zero_table([1.0], [1.0, 2.0, 4.0]).rows[0]     # 1/(s^2 + 2 s + 4)
+    >>> row.kind, row.pair, round(row.wn, 12), round(row.zeta, 12), row.root_text()
+    ('pole', True, 2.0, 0.5, '-1 ± 1.732i')
     """
 
     kind: str
@@ -142,7 +170,19 @@ class PoleZeroTable:
 
     Rows are the poles sorted by natural frequency, then the zeros.  Complex
     conjugate pairs take one row (``value`` is the root with positive
-    imaginary part).
+    imaginary part).  Made by :func:`pole_zero_table`.
+
+    Examples
+    --------
+    >>> t = pole_zero_table([1.0, 0.0], [1.0, 3.0, 2.0])    # s/((s + 1)(s + 2))
+    >>> len(t.poles), len(t.zeros), [r.root_text() for r in t.rows]
+    (2, 1, ['-1', '-2', '0'])
+    >>> print(t)
+    kind  root  wn (rad/s)  f (Hz)  zeta
+    ----  ----  ----------  ------  ----
+    pole  -1    1           0.1592  1
+    pole  -2    2           0.3183  1
+    zero  0     0           0       —
     """
 
     rows: tuple[PoleZeroRow, ...]
@@ -224,6 +264,24 @@ def pole_zero_table(num: Sequence[float], den: Sequence[float], *, tol: float = 
 
     Roots are ``numpy.roots`` of the coefficients; parts smaller than
     ``tol * |root|`` are set to zero (so an undamped pair shows ``0 ± w i``).
+
+    Parameters
+    ----------
+    num, den : sequence of float
+        Polynomial coefficients, highest power first.
+    tol : float
+        Relative threshold of :func:`snap_roots`.
+    digits : int
+        Significant digits shown (>= 1).
+
+    Returns
+    -------
+    PoleZeroTable
+
+    Raises
+    ------
+    InvalidOptionError
+        For ``digits < 1`` or an all-zero denominator.
 
     Examples
     --------
