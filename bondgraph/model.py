@@ -43,6 +43,24 @@ class Model:
     storage_states : int
         How many of the states belong to storage elements (the rest are
         integrators added for displacement or momentum signals).
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("msd")
+    >>> v = bg.One("v")
+    >>> g.add(bg.Se("F"), v, bg.I("m"), bg.R("b"), bg.C("k", stiffness="k"))
+    >>> for t, h in [("F", v), (v, "m"), (v, "b"), (v, "k")]: _ = g.connect(t, h)
+    >>> model = bg.derive(g, outputs={"x": bg.displacement("k")})
+    >>> model.state_names, model.input_names, model.output_names
+    (('p_m', 'q_k'), ('F',), ('x',))
+    >>> [p.name for p in model.parameters]
+    ['b', 'k', 'm']
+    >>> print(model)
+    model 'msd': 2 states, 1 inputs, 1 outputs
+      dp_m/dt = F - b*p_m/m - k*q_k
+      dq_k/dt = p_m/m
+      x = q_k
     """
 
     name: str

@@ -63,6 +63,20 @@ class SymbolicStateSpace(SignalCounts):
     """``x' = A x + B u``, ``y = C x + D u`` with symbolic entries and names.
 
     When ``E`` is given the system is in descriptor form ``E x' = A x + B u``.
+    Results of :meth:`bondgraph.Model.state_space` hold sparse immutable
+    matrices (bond-graph models are sparse); any sympy immutable matrix works.
+
+    Examples
+    --------
+    >>> import sympy
+    >>> m, k = sympy.symbols("m k", positive=True)
+    >>> ss = SymbolicStateSpace(sympy.ImmutableMatrix([[0, 1/m], [-k, 0]]),
+    ...     sympy.ImmutableMatrix([[1], [0]]), sympy.ImmutableMatrix([[0, 1]]),
+    ...     sympy.ImmutableMatrix([[0]]), ("p", "q"), ("F",), ("x",))
+    >>> ss.subs({"m": 2, "k": 8}).A
+    Matrix([
+    [ 0, 1/2],
+    [-8,   0]])
     """
 
     A: sympy.ImmutableMatrix
