@@ -35,6 +35,15 @@ __all__ = ["name_latex", "dot_latex", "poly_latex", "tf_latex", "numeric_poly_la
 def name_latex(name: str) -> str:
     r"""LaTeX of a signal or state name, as sympy prints ``Symbol(name)``.
 
+    Parameters
+    ----------
+    name : str
+        Signal or state name, e.g. ``"omega"`` or ``"p_J"``.
+
+    Returns
+    -------
+    str
+
     Examples
     --------
     >>> name_latex("omega"), name_latex("p_J"), name_latex("x2")
@@ -45,6 +54,15 @@ def name_latex(name: str) -> str:
 
 def dot_latex(name: str) -> str:
     r"""LaTeX of the time derivative of a state name.
+
+    Parameters
+    ----------
+    name : str
+        State name, e.g. ``"p_J"``.
+
+    Returns
+    -------
+    str
 
     Examples
     --------
@@ -74,6 +92,17 @@ def _combo(terms: Sequence[tuple[object, str]], *, numeric: bool = False,
 def poly_latex(coeffs: Sequence[object], s: str = "s") -> str:
     r"""Polynomial with symbolic ``coeffs`` (highest power first).
 
+    Parameters
+    ----------
+    coeffs : sequence of sympy expressions
+        Coefficients, highest power first.
+    s : str
+        LaTeX of the variable.
+
+    Returns
+    -------
+    str
+
     Examples
     --------
     >>> import sympy as sp
@@ -86,6 +115,19 @@ def poly_latex(coeffs: Sequence[object], s: str = "s") -> str:
 
 def numeric_poly_latex(coeffs: Sequence[float], s: str = "s", *, digits: int = 4) -> str:
     r"""Polynomial with float ``coeffs`` (highest power first); zeros skipped.
+
+    Parameters
+    ----------
+    coeffs : sequence of float
+        Coefficients, highest power first.
+    s : str
+        LaTeX of the variable.
+    digits : int
+        Significant digits shown.
+
+    Returns
+    -------
+    str
 
     Examples
     --------
@@ -117,16 +159,26 @@ def tf_latex(num_coeffs: Sequence[object], den_coeffs: Sequence[object], *,
 
     Parameters
     ----------
-    num_coeffs, den_coeffs
+    num_coeffs, den_coeffs : sequence of sympy expressions
         Coefficients, highest power of ``s`` first (sympy expressions).
-    form
+    input_name, output_name : str
+        Signal names used in the left-hand side ``\frac{Y(s)}{U(s)}``.
+    s : str
+        LaTeX of the Laplace variable.
+    form : {'coefficients', 'named'}
         ``'coefficients'``: ``\frac{...}{...}`` with the coefficient
         expressions; ``'named'``: ``\frac{a_1 s + a_0}{b_2 s^2 + ...}`` followed
         by one line per (nonzero) coefficient ``a_k = ...``, in an ``aligned``
         environment, like Eq. (13) of the seed paper.
-    lhs
+    lhs : bool or str
         ``True`` writes ``\frac{Y(s)}{U(s)} =`` from the names, a string is
         used as is (e.g. ``'G(s)'``), ``False`` omits it.
+    num_letter, den_letter : str
+        Letters of the numerator and denominator coefficients when ``form='named'``.
+
+    Returns
+    -------
+    str
 
     Examples
     --------
@@ -171,6 +223,27 @@ def numeric_tf_latex(num: Sequence[float], den: Sequence[float], *, input_name: 
                      output_name: str = "y", s: str = "s", form: str = "coefficients",
                      lhs: bool | str = True, digits: int = 4, zeta_omega: bool = False) -> str:
     r"""LaTeX of a numeric transfer function, coefficient or factored form.
+
+    Parameters
+    ----------
+    num, den : sequence of float
+        Coefficients, highest power first.
+    input_name, output_name : str
+        Signal names used in the left-hand side.
+    s : str
+        LaTeX of the Laplace variable.
+    form : {'coefficients', 'factored'}
+        Expanded polynomials or :func:`factored_latex`.
+    lhs : bool or str
+        ``True``: ``\frac{Y(s)}{U(s)} =`` from the names; a string: used as is; ``False``: none.
+    digits : int
+        Significant digits shown.
+    zeta_omega : bool
+        Write complex pairs as ``2 \cdot zeta \cdot w`` (``form='factored'`` only).
+
+    Returns
+    -------
+    str
 
     Examples
     --------
@@ -238,6 +311,21 @@ def factored_latex(num: Sequence[float], den: Sequence[float], *, s: str = "s",
     ``2 \cdot zeta \cdot w`` when ``zeta_omega``.  ``k`` is the ratio of
     leading coefficients.
 
+    Parameters
+    ----------
+    num, den : sequence of float
+        Coefficients, highest power first (``den`` not all zero).
+    s : str
+        LaTeX of the Laplace variable.
+    digits : int
+        Significant digits shown.
+    zeta_omega : bool
+        Write complex pairs with ``zeta`` and ``w`` instead of evaluated coefficients.
+
+    Returns
+    -------
+    str
+
     Examples
     --------
     >>> factored_latex([1.0, 0.0], [1.0, 0.2, 4.0])
@@ -268,6 +356,17 @@ def factored_latex(num: Sequence[float], den: Sequence[float], *, s: str = "s",
 def matrix_latex(M, name: str | None = None) -> str:
     r"""``name = \left[\begin{matrix}...\end{matrix}\right]``.
 
+    Parameters
+    ----------
+    M : sympy matrix, nested list or numpy array
+        The matrix.
+    name : str or None
+        LaTeX written before ``=``; ``None`` or ``""``: the matrix alone.
+
+    Returns
+    -------
+    str
+
     Examples
     --------
     >>> import sympy as sp
@@ -294,6 +393,23 @@ def state_equations_latex(A, B, state_names: Sequence[str] | None = None,
     r"""One line per state equation (and per output when ``C`` is given).
 
     ``E`` (descriptor form) puts ``sum_j E_ij \dot{x}_j`` on the left.
+
+    Parameters
+    ----------
+    A, B : sympy matrix, nested list or numpy array
+        State and input matrices.
+    state_names, input_names : sequence of str or None
+        State and input names (``None``: ``x``/``u``, numbered if more than one).
+    E : sympy matrix, nested list, numpy array or None
+        Descriptor matrix (``None``: identity).
+    C, D : sympy matrix, nested list, numpy array or None
+        Output and feedthrough matrices (``C=None``: no output lines; ``D=None``: zero).
+    output_names : sequence of str or None
+        Output names (``None``: ``y``, numbered if more than one).
+
+    Returns
+    -------
+    str
 
     Examples
     --------
@@ -346,6 +462,21 @@ def state_space_latex(A, B, C=None, D=None, *, E=None,
     r"""Matrix form ``[x'] = A [x] + B [u]``, ``[y] = C [x] + D [u]``.
 
     A zero ``D`` is left out.
+
+    Parameters
+    ----------
+    A, B : sympy matrix, nested list or numpy array
+        State and input matrices.
+    C, D : sympy matrix, nested list, numpy array or None
+        Output and feedthrough matrices (``C=None``: no output line; ``D=None``: zero).
+    E : sympy matrix, nested list, numpy array or None
+        Descriptor matrix (``None``: identity).
+    state_names, input_names, output_names : sequence of str or None
+        State, input and output names (``None``: ``x``/``u``/``y``, numbered if more than one).
+
+    Returns
+    -------
+    str
 
     Examples
     --------
