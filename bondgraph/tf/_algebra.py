@@ -714,7 +714,16 @@ def clear_reciprocals(polys: Sequence[Any], enc: EncodedSystem) -> list[SDict]:
                 d = sd.get(exps[0])
                 if d is None:
                     d = sd[exps[0]] = {}
-                d[tuple(e)] = c
+                # distinct ring monomials can collapse onto one monomial once the
+                # reciprocals are cleared (1/(R1*C1) + 1/(R2*C1)): add, never overwrite
+                key = tuple(e)
+                total = d.get(key, 0) + c
+                if total:
+                    d[key] = total
+                else:
+                    d.pop(key, None)
+            for key in [k for k, d in sd.items() if not d]:
+                del sd[key]
             out.append(sd)
         return out
     pow_cache: dict[tuple[int, int], Any] = {}
