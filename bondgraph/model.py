@@ -147,6 +147,38 @@ class Model:
         C, D = _linear_form(self.output_exprs, x, u, self, "output", "y")
         return SymbolicStateSpace(A, B, C, D, self.state_names, self.input_names, self.output_names)
 
+    def _laplace_system(self, descriptor: bool, s: sympy.Symbol, outputs=None):
+        """``A, B(s), C, D(s), E`` of the Laplace-transformed equations.
+
+        Input derivatives enter as powers of ``s`` (zero initial conditions):
+        ``x' = A x + B0 u + B1 u'`` gives ``B(s) = B0 + s B1``, likewise for
+        ``D``.  ``outputs``: indices of the outputs to linearize (default all).
+        """
+        x, u = self.states, self.inputs
+        ud = self.input_derivatives
+        orders = _derivative_orders(self) if ud else {}
+        outs = range(len(self.output_exprs)) if outputs is None else outputs
+        out_exprs = [self.output_exprs[i] for i in outs]
+        if descriptor and self.descriptor is not None:
+            E, F = self.descriptor
+            if E.free_symbols & (set(x) | set(u) | set(ud)):
+                raise NonlinearModelError(f"model {self.name!r}: E depends on the states")
+            A, B, B1 = _linear_form(F, x, u, self, "state equation", "F", ud)
+        else:
+            E = None
+            A, B, B1 = _linear_form(self.rhs, x, u, self, "state equation", "x'", ud)
+        C, D, D1 = _linear_form(out_exprs, x, u, self, "output", "y", ud)
+
+        def with_s(M0, M1):
+            if not ud:
+                return M0
+            M = sympy.Matrix(M0)
+            for (i, k), c in M1.todok().items():
+                j, order = orders[ud[k]]
+                M[i, j] += c * s**order
+            return sympy.ImmutableMatrix(M)
+        return A, with_s(B, B1), C, with_s(D, D1), E
+
     def transfer_function(self, input=None, output=None, *, descriptor: bool | None = None,
                           **options):
         """Symbolic ``G(s)`` from one input to one output (see :mod:`bondgraph.tf`).
@@ -155,6 +187,14 @@ class Model:
         ``E x' = A x + B u`` (``det(sE - A)`` and its minors; ``E`` is never
         inverted) unless ``descriptor=False``.  ``options`` go to
         :func:`bondgraph.tf.transfer_function` (``normalize=``, ``cancel=``, ...).
+
+        Input derivatives (a flow source driving an inertia, for instance) are
+        Laplace transformed with zero initial conditions:
+        ``x' = A x + B u + B1 u'``, ``y = C x + D u + D1 u'`` give
+        ``G(s) = C (sE - A)^-1 (B + s B1) + D + s D1``, improper when ``D1``
+        (or ``C`` meeting ``B1``) makes the numerator degree exceed the
+        denominator's.  Only the chosen output is linearized: another output
+        that is nonlinear or improper does not matter.
 
         Examples
         --------
@@ -166,23 +206,40 @@ class Model:
         >>> model = bg.derive(g, outputs={"vC": bg.effort("C")})
         >>> model.transfer_function("V", "vC", normalize="leading-one-denominator").expr
         1/(C*R*s + 1)
+
+        A velocity source driving a mass and a damper: the force it must
+        deliver is ``(m s + b) v``, an improper transfer function.
+
+        >>> g = bg.BondGraph("shaker")
+        >>> g.add(bg.Sf("v"), bg.One("j"), bg.I("m"), bg.R("b"))
+        >>> for t, h in [("v", "j"), ("j", "m"), ("j", "b")]: _ = g.connect(t, h)
+        >>> G = bg.derive(g, outputs={"F": bg.effort(1)}).transfer_function("v", "F")
+        >>> G.expr, G.is_proper
+        (b + m*s, False)
         """
         from .tf import transfer_function
+        from .tf.symbolic import _resolve
 
         use_e = self.descriptor is not None if descriptor is None else descriptor
-        ss = self.descriptor_form() if use_e else self.state_space()
-        return transfer_function(ss.A, ss.B, ss.C, ss.D, E=ss.E if use_e else None, input=input,
-                                 output=output, input_names=ss.input_names,
-                                 output_names=ss.output_names, **options)
+        s = options.pop("s", None) or sympy.Symbol("s")
+        i = _resolve(output, self.output_names, "output")
+        A, B, C, D, E = self._laplace_system(use_e, s, [i])
+        return transfer_function(A, B, C, D, E=E, input=input, output=0,
+                                 input_names=self.input_names,
+                                 output_names=(self.output_names[i],), s=s, **options)
 
     def transfer_matrix(self, **options):
-        """All input/output transfer functions over one denominator (see :mod:`bondgraph.tf`)."""
+        """All input/output transfer functions over one denominator (see :mod:`bondgraph.tf`).
+
+        Input derivatives are handled as in :meth:`transfer_function`: an
+        entry that involves one may be improper, the others are unchanged.
+        """
         from .tf import transfer_matrix
 
-        use_e = self.descriptor is not None
-        ss = self.descriptor_form() if use_e else self.state_space()
-        return transfer_matrix(ss.A, ss.B, ss.C, ss.D, E=ss.E if use_e else None,
-                               input_names=ss.input_names, output_names=ss.output_names, **options)
+        s = options.pop("s", None) or sympy.Symbol("s")
+        A, B, C, D, E = self._laplace_system(self.descriptor is not None, s)
+        return transfer_matrix(A, B, C, D, E=E, input_names=self.input_names,
+                               output_names=self.output_names, s=s, **options)
 
     def _repr_latex_(self) -> str:
         return _equations_latex(self)
@@ -294,8 +351,33 @@ def _point(model: Model, values, symbols, what: str) -> dict:
     return out
 
 
-def _linear_form(exprs, x, u, model: Model, what: str, lhs: str):
+def _derivative_orders(model: Model) -> dict[sympy.Symbol, tuple[int, int]]:
+    """``{input derivative symbol: (input index, order)}``.
+
+    ``dV/dt`` is the first derivative of input ``V``; ``d2V/dt2`` (or
+    ``d^2V/dt^2``) the second, and so on.
+    """
+    names = {}
+    for j, u in enumerate(model.inputs):
+        names[f"d{u.name}/dt"] = (j, 1)
+        for k in range(2, 10):
+            names[f"d{k}{u.name}/dt{k}"] = (j, k)
+            names[f"d^{k}{u.name}/dt^{k}"] = (j, k)
+    out = {}
+    for sym in model.input_derivatives:
+        if sym.name not in names:
+            raise NonlinearModelError(
+                f"model {model.name!r}: input derivative {sym.name} names no input "
+                f"({', '.join(model.input_names)})")
+        out[sym] = names[sym.name]
+    return out
+
+
+def _linear_form(exprs, x, u, model: Model, what: str, lhs: str, ud=None):
     """Sparse ``(M_x, M_u)`` with ``exprs = M_x x + M_u u``; checks linearity.
+
+    With ``ud`` (input-derivative symbols) also ``M_ud``, the coefficients
+    of those symbols, which are otherwise refused.
 
     One pass over the terms of each expression: a term that is a product
     containing exactly one state or input (to the first power) gives its
@@ -303,17 +385,25 @@ def _linear_form(exprs, x, u, model: Model, what: str, lhs: str):
     proportional to the size of the expressions, not to ``len(x)**2``.
     """
     x, u = tuple(x), tuple(u)
+    ud_cols = tuple(ud) if ud is not None else ()
     col = {s: (0, j) for j, s in enumerate(x)}
     col.update({s: (1, j) for j, s in enumerate(u)})
+    col.update({s: (2, j) for j, s in enumerate(ud_cols)})
     variables = set(col)
-    bad = set(model.input_derivatives) | {T_SYM}
-    entries: tuple[dict, dict] = ({}, {})
+    bad = (set(model.input_derivatives) - set(ud_cols)) | {T_SYM}
+    entries: tuple[dict, dict, dict] = ({}, {}, {})
     for i, ex in enumerate(exprs):
         free = ex.free_symbols
         if free & bad:
+            hint = ""
+            if free & set(model.input_derivatives):
+                hint = ("; transfer_function() and transfer_matrix() handle input "
+                        "derivatives (G(s) = C (sI - A)^-1 (B + s B1) + D + s D1), and "
+                        "compile_plant() gives the numeric plant and its frequency response")
             raise NonlinearModelError(
                 f"model {model.name!r}: {what} {i + 1} depends on "
-                f"{', '.join(sorted(str(s) for s in free & bad))}; it has no constant (A, B) form"
+                f"{', '.join(sorted(str(s) for s in free & bad))}; it has no constant (A, B) "
+                f"form{hint}"
             )
         if not free & variables:
             if ex != 0:
@@ -355,5 +445,8 @@ def _linear_form(exprs, x, u, model: Model, what: str, lhs: str):
             if c != 0:
                 k, j = col[v]
                 entries[k][(i, j)] = c
-    return (sympy.ImmutableSparseMatrix(len(exprs), len(x), entries[0]),
+    mats = (sympy.ImmutableSparseMatrix(len(exprs), len(x), entries[0]),
             sympy.ImmutableSparseMatrix(len(exprs), len(u), entries[1]))
+    if ud is None:
+        return mats
+    return mats + (sympy.ImmutableSparseMatrix(len(exprs), len(ud_cols), entries[2]),)

@@ -318,7 +318,13 @@ def encode_system(A, B, C, D, E, s: sp.Symbol, *, backend: str | None = None) ->
             for j in range(cols):
                 e = sp.sympify(M[i, j])
                 irow.append(len(exprs))
-                exprs.append(_encode_entry(e, name, i, j, s, recips, den_cache))
+                if name in ("B", "D") and isinstance(e, sp.Expr) and s in e.free_symbols:
+                    # input derivatives: a polynomial in s with parameter coefficients
+                    exprs.append(sp.expand(sp.Add(*[
+                        s**k * _encode_entry(c, name, i, j, s, recips, den_cache)
+                        for k, c in _s_coefficients(e, name, i, j, s)])))
+                else:
+                    exprs.append(_encode_entry(e, name, i, j, s, recips, den_cache))
             idx.append(irow)
         index[name] = idx
     bases = list(recips)
@@ -330,15 +336,17 @@ def encode_system(A, B, C, D, E, s: sp.Symbol, *, backend: str | None = None) ->
         dicts, gens = [], ()
     gens = tuple(gens)
     rset = set(rsyms)
-    params = tuple(sorted((g for g in gens if g not in rset), key=sp.default_sort_key))
+    params = tuple(sorted((g for g in gens if g not in rset and g != s),
+                          key=sp.default_sort_key))
     order = list(params) + rsyms
     pos = {g: gens.index(g) if g in gens else None for g in order}
+    pos_s = gens.index(s) if s in gens else None     # only in B and D entries
     ring = make_ring(1 + len(order), backend)
 
     def to_ring(d):
         terms = {}
         for exps, c in d.items():
-            new = [0]
+            new = [exps[pos_s] if pos_s is not None else 0]
             for g in order:
                 k = pos[g]
                 new.append(exps[k] if k is not None else 0)
@@ -353,6 +361,22 @@ def encode_system(A, B, C, D, E, s: sp.Symbol, *, backend: str | None = None) ->
                          recip_bases=tuple(bases),
                          recip_polys=tuple(polys[len(exprs):]),
                          A=enc["A"], B=enc["B"], C=enc["C"], D=enc["D"], E=enc.get("E"))
+
+
+def _s_coefficients(e: sp.Expr, name: str, i: int, j: int, s: sp.Symbol):
+    """``[(k, c_k)]`` with ``e = sum c_k s**k`` (``B``/``D`` entries of input derivatives)."""
+    try:
+        P = sp.Poly(e, s)
+    except sp.PolynomialError:
+        raise MatrixEntryError(f"{name}[{i}, {j}]: expected a polynomial in {s} (input "
+                               f"derivatives), got {e}") from None
+    out = []
+    for (k,), c in P.terms():
+        c = sp.sympify(P.domain.to_sympy(c)) if not isinstance(c, sp.Expr) else c
+        if s in c.free_symbols:  # pragma: no cover - Poly keeps s out of coefficients
+            raise MatrixEntryError(f"{name}[{i}, {j}]: expected a polynomial in {s}, got {e}")
+        out.append((k, c))
+    return out
 
 
 def _encode_entry(e, name, i, j, s, recips, den_cache):
@@ -635,15 +659,44 @@ def charpoly_berkowitz(enc: EncodedSystem) -> tuple[Any, list[Any]]:
     Ad = [[to_dom(x) for x in row] for row in enc.A]
     dA = DomainMatrix(Ad, (n, n), dom)
     den = from_coeffs(dA.charpoly())
+    s = ring.gen(0)
     nums = []
     for i, crow in enumerate(enc.C):
         row = []
         for j in range(len(enc.B[0]) if enc.B else 0):
-            bc = [[to_dom(enc.B[r][j] * crow[c]) for c in range(n)] for r in range(n)]
-            pert = from_coeffs((dA - DomainMatrix(bc, (n, n), dom)).charpoly())
-            row.append(pert - den + enc.D[i][j] * den)
+            # B_j(s) = sum_k s**k B_jk (input derivatives): one lemma per power of s
+            parts: dict[int, list] = defaultdict(lambda: [ring.zero] * n)
+            for r in range(n):
+                for k, piece in split_s(enc.B[r][j], ring).items():
+                    parts[k][r] = piece
+            num = enc.D[i][j] * den
+            for k, col in parts.items():
+                bc = [[to_dom(col[r] * crow[c]) for c in range(n)] for r in range(n)]
+                pert = from_coeffs((dA - DomainMatrix(bc, (n, n), dom)).charpoly())
+                term = pert - den
+                for _ in range(k):
+                    term = term * s
+                num = num + term
+            row.append(num)
         nums.append(row)
     return den, nums
+
+
+def split_s(p, ring: Ring) -> dict[int, Any]:
+    """``{k: p_k}`` with ``p = sum s**k p_k`` and no ``s`` in the ``p_k``.
+
+    Examples
+    --------
+    >>> R = make_ring(2)
+    >>> s, a = R.gen(0), R.gen(1)
+    >>> {k: R.terms(v) for k, v in split_s(s**2 * a + a + 1, R).items()} == {
+    ...     0: [((0, 1), 1), ((0, 0), 1)], 2: [((0, 1), 1)]}
+    True
+    """
+    groups: dict[int, dict] = defaultdict(dict)
+    for exps, c in ring.terms(p):
+        groups[exps[0]][(0,) + tuple(exps[1:])] = c
+    return {k: ring.from_terms(v) for k, v in groups.items()}
 
 
 # ------------------------------------------------------------- clearing, cancelling

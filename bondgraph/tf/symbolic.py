@@ -8,7 +8,11 @@ denominator is ``det(sE - A)`` and each numerator the bordered determinant
 
 both computed exactly over a polynomial ring in ``s`` and the parameters (see
 :mod:`bondgraph.tf._algebra`); common factors of numerator and denominator
-are cancelled by an exact multivariate gcd.
+are cancelled by an exact multivariate gcd.  ``B`` and ``D`` may hold
+polynomials in ``s`` (input derivatives, ``B(s) = B0 + B1 s``): the bordered
+determinant is linear in its last column, so the same formula gives
+``C (sE - A)^{-1} B(s) + D(s)``, improper when ``D(s)`` has a power of ``s``
+or ``C`` meets ``B1`` often enough.
 
 Examples
 --------
@@ -614,6 +618,17 @@ class SymbolicTF:
 
     @property
     def is_proper(self) -> bool:
+        """``deg num <= deg den``; False for input-derivative feedthrough.
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> m, b = sp.symbols("m b", positive=True)
+        >>> G = transfer_function(sp.zeros(0, 0), sp.zeros(0, 1), sp.zeros(1, 0),
+        ...                       [[m*sp.Symbol("s") + b]])      # F = (m s + b) v
+        >>> G.expr, G.is_proper, G.subs({"m": 2, "b": 3})(1j)
+        (b + m*s, False, (3+2j))
+        """
         return self.num.is_zero or self.num.degree() <= self.den.degree()
 
     # -- numeric --------------------------------------------------------------------
@@ -899,7 +914,10 @@ def transfer_function(A, B, C, D=None, *, E=None, input: str | int | None = None
         State-space matrices (sympy matrices, nested lists or numpy arrays);
         ``D`` may be ``None``/``0`` for zero.  Entries are rational functions
         of the parameters (``1/m`` is fine); floats are read as the decimals
-        they print as.
+        they print as.  Entries of ``B`` and ``D`` may be polynomials in
+        ``s`` (input derivatives: ``x' = A x + B0 u + B1 u'`` has
+        ``B = B0 + s*B1``); ``G`` is then ``C (sE - A)^{-1} B(s) + D(s)``
+        and may be improper (``is_proper`` False).
     E
         Descriptor matrix of ``E x' = A x + B u`` (``None``: identity).  It is
         never inverted; ``det(sE - A)`` must not vanish identically.
