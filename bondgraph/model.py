@@ -179,6 +179,29 @@ class Model:
             return sympy.ImmutableMatrix(M)
         return A, with_s(B, B1), C, with_s(D, D1), E
 
+    def _derivative_form(self):
+        """``A, (B0, B1, ..), C, (D0, D1, ..)`` of the explicit equations
+        ``x' = A x + sum_k B_k u^(k)``, ``y = C x + sum_k D_k u^(k)``.
+
+        Without input derivatives the tuples have one matrix (``state_space``).
+        """
+        x, u, ud = self.states, self.inputs, self.input_derivatives
+        if not ud:
+            ss = self.state_space()
+            return ss.A, (ss.B,), ss.C, (ss.D,)
+        orders = _derivative_orders(self)
+        A, B, B1 = _linear_form(self.rhs, x, u, self, "state equation", "x'", ud)
+        C, D, D1 = _linear_form(self.output_exprs, x, u, self, "output", "y", ud)
+        top = max(k for _, k in orders.values())
+
+        def split(M0, M1):
+            mats = [M0] + [sympy.zeros(*M0.shape) for _ in range(top)]
+            for (i, c), val in M1.todok().items():
+                j, k = orders[ud[c]]
+                mats[k][i, j] += val
+            return (M0,) + tuple(sympy.ImmutableSparseMatrix(M) for M in mats[1:])
+        return A, split(B, B1), C, split(D, D1)
+
     def transfer_function(self, input=None, output=None, *, descriptor: bool | None = None,
                           **options):
         """Symbolic ``G(s)`` from one input to one output (see :mod:`bondgraph.tf`).

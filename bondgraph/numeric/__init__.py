@@ -28,7 +28,7 @@ array([[ -2. , -10. ],
 ['p_La', 'p_J']
 """
 
-from .errors import NumericError, ParameterValueError, SimulationError
+from .errors import ImproperPlantError, NumericError, ParameterValueError, SimulationError
 from .parameters import parameter_name, resolve_batch, resolve_parameters
 from .plant import (BatchStateSpace, NumericModel, NumericStateSpace, compile_plant,
                     control_labels, numeric_plant)
@@ -39,5 +39,5 @@ __all__ = [
     "NumericStateSpace", "BatchStateSpace", "NumericModel", "compile_plant", "numeric_plant",
     "NumericDynamics", "compile_dynamics", "SimulationResult", "simulate", "to_nonlinear_iosys",
     "resolve_parameters", "resolve_batch", "parameter_name", "control_labels",
-    "NumericError", "ParameterValueError", "SimulationError",
+    "NumericError", "ParameterValueError", "SimulationError", "ImproperPlantError",
 ]

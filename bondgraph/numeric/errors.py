@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from ..errors import BondGraphError
 
-__all__ = ["NumericError", "ParameterValueError", "SimulationError"]
+__all__ = ["NumericError", "ParameterValueError", "SimulationError", "ImproperPlantError"]
 
 
 class NumericError(BondGraphError, ValueError):
@@ -35,3 +35,8 @@ class ParameterValueError(NumericError):
 
 class SimulationError(BondGraphError, RuntimeError):
     """The ODE solver failed (stiffness, a singularity, a non-finite derivative)."""
+
+
+class ImproperPlantError(NumericError):
+    """A plant with input-derivative feedthrough (``D_derivatives`` nonzero) was asked
+    for a form that cannot hold it (python-control or scipy ``StateSpace``)."""

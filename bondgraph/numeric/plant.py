@@ -8,6 +8,21 @@ thousands at once into a :class:`BatchStateSpace` (stacked ``(P, n, n)``
 arrays with batched eigenvalues and frequency responses).  Numbers are never
 substituted into sympy expressions.
 
+Input derivatives.  A model whose equations hold input derivatives
+(``x' = A x + B0 u + B1 u'``, ``y = C x + D0 u + D1 u'``: a flow source
+driving an inertia) is compiled too.  Its plant uses the states
+``z = x - B1 u`` (in general ``z = x - sum_j S_j u^(j)``, kept in
+:attr:`NumericStateSpace.state_shift`), which removes ``u'`` from the state
+equations: ``z' = A z + (B0 + A B1) u``, ``y = C z + (D0 + C B1) u + D1 u'``.
+The coefficient matrices of ``s, s^2, ...`` in the feedthrough are
+:attr:`NumericStateSpace.D_derivatives`; :meth:`~NumericStateSpace.frequency_response`
+includes them.  When one is nonzero the plant is improper (``is_proper``
+False) and ``to_control``/``to_tf``/``to_scipy`` raise
+:class:`~bondgraph.numeric.errors.ImproperPlantError` (python-control and scipy
+state-space systems cannot hold ``D1 s``); use
+``model.transfer_function(...).to_control(values)`` for a python-control
+transfer function of an improper entry.
+
 Examples
 --------
 >>> import bondgraph as bg
@@ -39,7 +54,7 @@ from ..statespace import SignalCounts, check_matrix_shape, expected_shape
 from ._compile import lambdify_cse, placeholders
 from ._linalg import freeze, frequency_response, sorted_eigenvalues
 from .._labels import control_labels
-from .errors import NumericError, ParameterValueError
+from .errors import ImproperPlantError, NumericError, ParameterValueError
 from .parameters import ParameterValues, resolve_batch, resolve_parameters
 
 if TYPE_CHECKING:  # imported lazily at run time
@@ -70,6 +85,15 @@ class NumericStateSpace(SignalCounts):
         The parameter values the matrices were evaluated at.
     name : str, optional
         The model's name.
+    D_derivatives : sequence of array_like, optional
+        Feedthrough of input derivatives: ``y = C x + D u + D_derivatives[0] u'
+        + D_derivatives[1] u'' + ...``, so ``H(s) = C (sI - A)^-1 B + D +
+        D_derivatives[0] s + ...``.  Empty (the default) for an ordinary plant.
+    state_shift : sequence of array_like, optional
+        ``(S_0, S_1, ...)``, each ``(n, m)``: the plant's states are
+        ``x - S_0 u - S_1 u' - ...`` where ``x`` are the model's states named
+        in ``state_names`` (see :mod:`bondgraph.numeric.plant`).  Empty when
+        the states are the model's own.
 
     Raises
     ------
@@ -99,17 +123,25 @@ class NumericStateSpace(SignalCounts):
     output_names: tuple[str, ...]
     parameters: Mapping[str, float] = field(default_factory=dict)
     name: str = ""
+    D_derivatives: tuple[np.ndarray, ...] = ()
+    state_shift: tuple[np.ndarray, ...] = ()
 
     def __post_init__(self) -> None:
         names = tuple(tuple(str(s) for s in getattr(self, f)) for f in
                       ("state_names", "input_names", "output_names"))
         n, m, p = (len(x) for x in names)
+
+        def checked(raw, label, shape_of):
+            arr = _matrix(np.reshape(raw, expected_shape(shape_of, n, m, p))
+                          if np.size(raw) == 0 else raw, label)
+            check_matrix_shape(shape_of, arr.shape, n, m, p, NumericError)
+            return arr
         for label in "ABCD":
-            raw = getattr(self, label)
-            arr = _matrix(np.reshape(raw, expected_shape(label, n, m, p)) if np.size(raw) == 0
-                          else raw, label)
-            check_matrix_shape(label, arr.shape, n, m, p, NumericError)
-            object.__setattr__(self, label, arr)
+            object.__setattr__(self, label, checked(getattr(self, label), label, label))
+        object.__setattr__(self, "D_derivatives", tuple(
+            checked(M, f"D_derivatives[{k}]", "D") for k, M in enumerate(self.D_derivatives)))
+        object.__setattr__(self, "state_shift", tuple(
+            checked(M, f"state_shift[{k}]", "B") for k, M in enumerate(self.state_shift)))
         for f, value in zip(("state_names", "input_names", "output_names"), names):
             object.__setattr__(self, f, value)
         object.__setattr__(self, "parameters",
@@ -123,8 +155,13 @@ class NumericStateSpace(SignalCounts):
         """Eigenvalues of ``A`` (the poles), sorted by real then imaginary part."""
         return sorted_eigenvalues(self.A)
 
+    @property
+    def is_proper(self) -> bool:
+        """False when an input derivative reaches an output (``D_derivatives`` nonzero)."""
+        return not any(np.any(M != 0.0) for M in self.D_derivatives)
+
     def frequency_response(self, omega: Union[float, Sequence[float], np.ndarray]) -> np.ndarray:
-        """``H(jw) = C (jw I - A)^-1 B + D`` at the angular frequencies ``omega`` (rad/s).
+        """``H(jw) = C (jw I - A)^-1 B + D (+ D_derivatives[k-1] (jw)^k)`` at ``omega`` (rad/s).
 
         Returns
         -------
@@ -132,7 +169,16 @@ class NumericStateSpace(SignalCounts):
             Complex, shape ``(len(omega), noutputs, ninputs)``; ``nan`` where
             ``jw`` is an eigenvalue of ``A``.
         """
-        return frequency_response(self.A, self.B, self.C, self.D, omega)
+        return _add_derivatives(frequency_response(self.A, self.B, self.C, self.D, omega),
+                                self.D_derivatives, omega)
+
+    def _require_proper(self, what: str) -> None:
+        if not self.is_proper:
+            raise ImproperPlantError(
+                f"plant {self.name!r} is improper (an output depends on an input derivative: "
+                f"D_derivatives is nonzero); {what} cannot hold it.  Use frequency_response(), "
+                "or model.transfer_function(input, output).to_control(values) for a "
+                "python-control transfer function")
 
     def to_control(self) -> control.StateSpace:
         """A python-control ``StateSpace`` with state, input and output labels.
@@ -149,6 +195,7 @@ class NumericStateSpace(SignalCounts):
         """
         import control
 
+        self._require_proper("a python-control StateSpace")
         return control.ss(self.A, self.B, self.C, self.D,
                           states=control_labels(self.state_names),
                           inputs=control_labels(self.input_names),
@@ -173,6 +220,7 @@ class NumericStateSpace(SignalCounts):
         """
         import control
 
+        self._require_proper("to_tf (through a StateSpace)")
         G = control.ss2tf(self.to_control(), name=self.name or None)
         if input is None and output is None:
             return G
@@ -184,6 +232,7 @@ class NumericStateSpace(SignalCounts):
         """The ``scipy.signal.StateSpace`` system (continuous time, no names)."""
         import scipy.signal
 
+        self._require_proper("a scipy StateSpace")
         return scipy.signal.StateSpace(self.A, self.B, self.C, self.D)
 
     @staticmethod
@@ -205,6 +254,9 @@ class BatchStateSpace:
     parameter_values : numpy.ndarray
         Shape ``(P, k)``, one row per parameter set, columns as ``parameter_names``.
     name : str
+    D_derivatives, state_shift : tuple of numpy.ndarray
+        Stacks of the matrices of :class:`NumericStateSpace` of the same names
+        (input derivatives); empty for ordinary plants.
 
     Examples
     --------
@@ -230,6 +282,8 @@ class BatchStateSpace:
     parameter_names: tuple[str, ...]
     parameter_values: np.ndarray
     name: str = ""
+    D_derivatives: tuple[np.ndarray, ...] = ()
+    state_shift: tuple[np.ndarray, ...] = ()
 
     def __repr__(self) -> str:
         return (f"BatchStateSpace({self.name!r}: {len(self)} plants, {len(self.state_names)} states, "
@@ -244,7 +298,8 @@ class BatchStateSpace:
         return NumericStateSpace(self.A[i], self.B[i], self.C[i], self.D[i], self.state_names,
                                  self.input_names, self.output_names,
                                  dict(zip(self.parameter_names, self.parameter_values[i].tolist())),
-                                 self.name)
+                                 self.name, tuple(M[i] for M in self.D_derivatives),
+                                 tuple(M[i] for M in self.state_shift))
 
     def eigenvalues(self) -> np.ndarray:
         """Eigenvalues of every ``A`` at once, shape ``(P, n)``, each row sorted."""
@@ -252,7 +307,8 @@ class BatchStateSpace:
 
     def frequency_response(self, omega: Union[float, Sequence[float], np.ndarray]) -> np.ndarray:
         """Batched ``H(jw)``, complex array of shape ``(P, len(omega), noutputs, ninputs)``."""
-        return frequency_response(self.A, self.B, self.C, self.D, omega)
+        return _add_derivatives(frequency_response(self.A, self.B, self.C, self.D, omega),
+                                self.D_derivatives, omega)
 
 
 class _CompiledModel:
@@ -297,7 +353,8 @@ class NumericModel(_CompiledModel):
     Raises
     ------
     NonlinearModelError
-        If the model has no (A, B, C, D) form.
+        If the model is not linear (input derivatives are fine: see
+        :mod:`bondgraph.numeric.plant`).
 
     Examples
     --------
@@ -313,21 +370,45 @@ class NumericModel(_CompiledModel):
 
     def __init__(self, model: Model) -> None:
         super().__init__(model)
-        ss = model.state_space()
-        self._shapes = tuple(M.shape for M in (ss.A, ss.B, ss.C, ss.D))
+        A, Bs, C, Ds = model._derivative_form()
+        #: highest input derivative order (0: an ordinary plant)
+        self._order = len(Bs) - 1
+        mats = (A,) + tuple(Bs) + (C,) + tuple(Ds)
+        self._labels = ("A",) + tuple("B" + (str(k) if k else "") for k in range(len(Bs))) + \
+            ("C",) + tuple("D" + (str(k) if k else "") for k in range(len(Ds)))
+        self._shapes = tuple(M.shape for M in mats)
         dummies = placeholders("p", len(self._params))
         swap = dict(zip(self._params, dummies))
         self._var: list[tuple[int, int, int]] = []
         self._const: list[tuple[int, int, int, float]] = []
         exprs = []
-        for k, M in enumerate((ss.A, ss.B, ss.C, ss.D)):
+        for k, M in enumerate(mats):
             for (i, j), ex in sorted(M.todok().items()):
                 if ex.free_symbols:
                     self._var.append((k, i, j))
                     exprs.append(ex.xreplace(swap))
                 else:
-                    self._const.append((k, i, j, _real_constant(ex, "ABCD"[k], i, j, model.name)))
+                    self._const.append((k, i, j,
+                                        _real_constant(ex, self._labels[k], i, j, model.name)))
         self._fn = lambdify_cse(dummies, exprs) if exprs else None
+
+    def _reduce(self, mats: list[np.ndarray]):
+        """``A, B, C, D, D_derivatives, state_shift`` from ``A, B0..BK, C, D0..DK``.
+
+        ``S_{K-1} = B_K``, ``S_j = B_{j+1} + A S_{j+1}`` (so ``S_j = sum_{k>j}
+        A^(k-1-j) B_k``); ``B = B0 + A S_0``, ``D_j' = D_j + C S_j``.
+        """
+        K = self._order
+        A, Bs, C, Ds = mats[0], mats[1:K + 2], mats[K + 2], mats[K + 3:]
+        if K == 0:
+            return A, Bs[0], C, Ds[0], (), ()
+        S: list[np.ndarray] = [np.empty(0)] * K
+        S[K - 1] = Bs[K]
+        for j in range(K - 2, -1, -1):
+            S[j] = Bs[j + 1] + A @ S[j + 1]
+        B = Bs[0] + A @ S[0]
+        D = [Ds[j] + C @ S[j] for j in range(K)] + [Ds[K]]
+        return A, B, C, D[0], tuple(freeze(M) for M in D[1:]), tuple(freeze(M) for M in S)
 
     def __repr__(self) -> str:
         return (f"NumericModel({self._model.name!r}: {len(self.state_names)} states, "
@@ -351,7 +432,7 @@ class NumericModel(_CompiledModel):
         return mats
 
     def _check_finite(self, mats: list[np.ndarray], values: np.ndarray, batch: bool) -> None:
-        for label, M in zip("ABCD", mats):
+        for label, M in zip(self._labels, mats):
             bad = ~np.isfinite(M)
             if bad.any():
                 idx = tuple(int(v) for v in np.argwhere(bad)[0])
@@ -380,9 +461,10 @@ class NumericModel(_CompiledModel):
         vec = resolve_parameters(self._params, values, model=self._model.name)
         mats = self._evaluate([np.float64(v) for v in vec], None)
         self._check_finite(mats, vec, False)
-        A, B, C, D = mats
+        A, B, C, D, Dd, S = self._reduce(mats)
         return NumericStateSpace(A, B, C, D, self.state_names, self.input_names, self.output_names,
-                                 dict(zip(self.parameter_names, vec.tolist())), self._model.name)
+                                 dict(zip(self.parameter_names, vec.tolist())), self._model.name,
+                                 Dd, S)
 
     def batch(self, values: Union[ParameterValues, np.ndarray]) -> BatchStateSpace:
         """Evaluate ``A, B, C, D`` for ``P`` parameter sets at once.
@@ -408,9 +490,21 @@ class NumericModel(_CompiledModel):
         mats = self._evaluate([arr[:, j] for j in range(arr.shape[1])], size)
         self._check_finite(mats, arr, True)
         freeze(arr)
-        A, B, C, D = (freeze(M) for M in mats)
+        A, B, C, D, Dd, S = self._reduce(mats)
+        A, B, C, D = (freeze(np.ascontiguousarray(M)) for M in (A, B, C, D))
         return BatchStateSpace(A, B, C, D, self.state_names, self.input_names,
-                               self.output_names, self.parameter_names, arr, self._model.name)
+                               self.output_names, self.parameter_names, arr, self._model.name,
+                               Dd, S)
+
+
+def _add_derivatives(H: np.ndarray, Dd: Sequence[np.ndarray], omega) -> np.ndarray:
+    """``H + sum_k Dd[k-1] (jw)^k``; ``H`` has shape ``(..., F, p, m)``, ``Dd[k]`` ``(..., p, m)``."""
+    if not Dd:
+        return H
+    jw = 1j * np.atleast_1d(np.asarray(omega, dtype=float))
+    for k, M in enumerate(Dd, start=1):
+        H = H + M[..., None, :, :] * (jw ** k)[:, None, None]
+    return H
 
 
 def _real_constant(ex: sympy.Expr, label: str, i: int, j: int, name: str) -> float:
