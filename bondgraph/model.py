@@ -271,7 +271,8 @@ class Model:
         from .drawing import repr_svg
         return repr_svg(self.augmented)
 
-    def linearize(self, x0=None, u0=None, *, equilibrium: bool = True) -> SymbolicStateSpace:
+    def linearize(self, x0=None, u0=None, *, equilibrium: bool = True,
+                  tol: float = 1e-9) -> SymbolicStateSpace:
         """Linearize about an operating point ``(x0, u0)`` by symbolic Jacobians.
 
         Parameters
@@ -282,6 +283,15 @@ class Model:
             When True (default), ``f(x0, u0)`` must vanish; otherwise the
             linearization about a non-equilibrium point is returned (the
             constant drift ``f(x0, u0)`` is then dropped).
+        tol : float
+            Tolerance of the equilibrium check for floating-point values
+            (``0.0``, ``math.pi``).  Each residual ``f_i(x0, u0)`` is split
+            into terms ``c * (product of parameters)`` with a numeric ``c``;
+            the terms with the same parameter product are summed, and a sum
+            whose parts hold a float passes when
+            ``|sum| <= tol * max(1, sum of |parts|)`` (absolute below 1,
+            relative above).  Exact parts (integers, rationals, ``sympy.pi``)
+            must simplify to exactly zero.  ``tol=0`` asks for exact zeros.
 
         Returns
         -------
@@ -311,13 +321,15 @@ class Model:
                     f"model {self.name!r} depends on {', '.join(map(str, ex.free_symbols & bad))}; "
                     "it cannot be linearized to a constant (A, B)")
         if equilibrium:
+            if isinstance(tol, bool) or not isinstance(tol, (int, float)) or not tol >= 0:
+                raise NonlinearModelError(f"tol: expected a number >= 0, got {tol!r}")
             for s_, r in zip(x, self.rhs):
-                val = sympy.simplify(r.xreplace(point))
-                if val != 0:
+                val = _residual(r, point, tol)
+                if val is not None:
                     raise NonlinearModelError(
                         f"model {self.name!r}: the operating point is not an equilibrium: "
-                        f"d{s_.name}/dt = {val} there; pass equilibrium=False to linearize "
-                        "about a non-equilibrium point")
+                        f"d{s_.name}/dt = {val} there (tol={tol:g}); pass equilibrium=False "
+                        "to linearize about a non-equilibrium point")
 
         def jac(exprs, wrt):
             return sympy.ImmutableMatrix(len(exprs), len(wrt), lambda i, j: sympy.simplify(
@@ -352,6 +364,40 @@ def _equations_latex(model: Model) -> str:
     rows += [r"%s &= %s" % (latex_name(n), tex(g))
              for n, g in zip(model.output_names, model.output_exprs)]
     return r"$$\begin{aligned}" + r" \\ ".join(rows) + r"\end{aligned}$$"
+
+
+def _residual(expr: sympy.Expr, point: dict, tol: float):
+    """``expr`` at ``point`` when it is not zero within ``tol``, else None.
+
+    See :meth:`Model.linearize`: terms are grouped by their symbolic factor;
+    a group holding a float passes when ``|sum| <= tol * max(1, sum |parts|)``,
+    exact groups must simplify to zero.
+    """
+    total = expr.xreplace(point)
+    if total == 0:
+        return None
+    if not total.has(sympy.Float):
+        total = sympy.simplify(total)
+        return None if total == 0 else total
+    groups: dict[sympy.Expr, list] = {}
+    for term in sympy.Add.make_args(expr):
+        for part in sympy.Add.make_args(sympy.expand(term.xreplace(point))):
+            c, rest = part.as_coeff_Mul()
+            groups.setdefault(rest, []).append(c)
+    exact = []
+    for rest, coeffs in groups.items():
+        c = sympy.Add(*coeffs)
+        if c == 0:
+            continue
+        if any(isinstance(k, sympy.Float) for k in coeffs) and c.is_number:
+            scale = max(1.0, sum(abs(float(k)) for k in coeffs))
+            if abs(complex(c)) <= tol * scale:
+                continue
+        exact.append(c * rest)
+    if not exact:
+        return None
+    rem = sympy.simplify(sympy.Add(*exact))
+    return None if rem == 0 else total
 
 
 def _point(model: Model, values, symbols, what: str) -> dict:
