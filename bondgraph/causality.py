@@ -1,10 +1,19 @@
 """Causality by the Sequential Causality Assignment Procedure (SCAP).
 
 Sources first, then storage elements one at a time with integral causality
-preferred, then R elements where a choice remains; after each choice the
-consequences are propagated through junctions, TF and GY with a worklist.
-Junctions keep counters, so each bond is handled a bounded number of times
-and the whole procedure is linear in the number of bonds.
+preferred, then R elements where a choice remains, then any junction bond
+still open; after each choice the consequences are propagated through
+junctions, TF and GY with a worklist.  Junctions keep counters, so without
+conflicts each bond is handled a bounded number of times and the procedure
+is linear in the number of bonds.
+
+The choices are made in an order that depends only on the graph, never on
+the order of ``add``/``connect``: storage elements nearest a source first
+(fewest bonds away), ties broken by name.  A conflict is not final: the
+decisions since the latest choice that has an alternative are undone
+(a journal) and the alternative is tried, so a valid assignment is found
+whenever one exists, and a storage element ends in derivative causality only
+when no valid assignment keeps it integral together with those before it.
 
 The causal stroke of a bond sits at the end of the element that *receives
 effort* (and so sends flow back).
@@ -31,7 +40,7 @@ from typing import Union
 
 import networkx as nx
 
-from .errors import CausalityConflictError
+from .errors import CausalityConflictError, CausalityError
 from .flatten import FlatGraph, flatten
 from .graph import Bond, BondGraph
 
@@ -180,6 +189,19 @@ def assign_causality(graph: Union[BondGraph, FlatGraph]) -> AugmentedBondGraph:
 
 
 class _Scap:
+    """SCAP as a depth-first search over its choices, with a journal to undo them.
+
+    Choice points, in an order that depends on names only (never on the order
+    of ``add``/``connect``): storage elements (integral causality first),
+    R elements, then junction-structure bonds still undecided.  After each
+    choice the consequences are propagated; a conflict undoes everything
+    decided since the most recent choice that still has an alternative and
+    tries that alternative (chronological backtracking).  The first complete
+    assignment found is the one SCAP's preference order gives: a storage
+    element is in derivative causality only when no valid assignment keeps it
+    (together with the storage elements before it) integral.
+    """
+
     def __init__(self, flat: FlatGraph) -> None:
         self.flat = flat
         self.bonds: tuple[Bond, ...] = flat.bonds
@@ -189,7 +211,8 @@ class _Scap:
         self.undecided = {n: len(flat.incidence[n]) for n in flat.index}
         self.efforts_in = {n: 0 for n in flat.index}  # decided bonds with effort into n
         self.queue: deque = deque()
-        self.trail: list[int] | None = None  # bonds decided since the last arbitrary choice
+        self.trail: list[int] = []  # every decided bond, in order (the journal)
+        self.budget = 200 * (nb + 10) + 100_000  # propagation steps before giving up
 
     # effort into element `name` on bond k?
     def _ein(self, name: str, k: int):
@@ -209,8 +232,7 @@ class _Scap:
             return
         self.head_gets_effort[k] = want
         self.why[k] = reason
-        if self.trail is not None:
-            self.trail.append(k)
+        self.trail.append(k)
         for end in (b.tail, b.head):
             self.undecided[end] -= 1
             if self._ein(end, k):
@@ -231,32 +253,10 @@ class _Scap:
                 f"{el.label()} needs it {need} ({reason}), but it was already decided by "
                 f"{self.why[k]}.{hint}")
 
-    def _choose(self, k: int, name: str, reason: str) -> None:
-        """Make an arbitrary choice on bond k, trying the other one on a conflict.
-
-        The bonds decided by the first try are journalled and undone on a
-        conflict, so the cost stays proportional to what the choice touched.
-        """
-        self.trail = []
-        try:
-            self._set(k, name, False, reason)
-            self._propagate()
-        except CausalityConflictError as first:
-            self._undo()
-            try:
-                self._set(k, name, True, reason)
-                self._propagate()
-            except CausalityConflictError as second:
-                raise CausalityConflictError(
-                    f"{second} (both causalities of bond {k + 1} lead to a conflict; the "
-                    "junction structure may be redundant, e.g. a circuit drawn with a 0-junction "
-                    "for every node including ground: remove the ground node's junction)"
-                ) from first
-        finally:
-            self.trail = None
-
-    def _undo(self) -> None:
-        for k in reversed(self.trail or []):
+    def _undo(self, mark: int) -> None:
+        """Undo every decision taken after the journal had ``mark`` entries."""
+        while len(self.trail) > mark:
+            k = self.trail.pop()
             b = self.bonds[k]
             for end in (b.tail, b.head):
                 self.undecided[end] += 1
@@ -264,12 +264,18 @@ class _Scap:
                     self.efforts_in[end] -= 1
             self.head_gets_effort[k] = None
             self.why[k] = None
-        self.trail = []
         self.queue.clear()
 
     def _propagate(self) -> None:
         flat = self.flat
         while self.queue:
+            self.budget -= 1
+            if self.budget < 0:
+                raise CausalityError(
+                    f"model {flat.name!r}: causality search gave up after exploring too many "
+                    "alternatives; the junction structure has many interlocking loops. "
+                    "Assign causality by hand-simplifying the junction structure."
+                )
             name = self.queue.popleft()
             el = flat.element(name)
             kind = el.kind
@@ -308,44 +314,136 @@ class _Scap:
             elif kind in _TWO_PORT:
                 k1, k2 = inc
                 a, b = self._ein(name, k1), self._ein(name, k2)
+                # TF passes effort through (exactly one port receives it); GY
+                # turns flow into effort (both ports receive effort, or neither)
                 same = kind in ("GY", "MGY")
                 if a is not None and b is None:
                     self._set(k2, name, a if same else not a, el.label())
                 elif b is not None and a is None:
                     self._set(k1, name, b if same else not b, el.label())
+                elif a is not None and b is not None and (a == b) != same:
+                    raise CausalityConflictError(
+                        f"causality conflict at {el.label()}: bonds {self.bonds[k1].number} and "
+                        f"{self.bonds[k2].number} were decided independently "
+                        f"(by {self.why[k1]} and {self.why[k2]}) and "
+                        + ("both bring effort into it or both take it out; a "
+                           f"{kind} passes effort from one port to the other"
+                           if not same else
+                           "only one of them brings effort in; a "
+                           f"{kind} takes effort on both ports or on neither")
+                    )
+
+    def _distance_from_sources(self) -> dict[str, int]:
+        """Number of bonds from each element to the nearest source (breadth first)."""
+        flat = self.flat
+        dist = {el.name: 0 for el in flat.elements if el.kind in ("Se", "Sf")}
+        frontier = deque(sorted(dist))
+        while frontier:
+            name = frontier.popleft()
+            for k in flat.incidence[name]:
+                b = self.bonds[k]
+                other = b.head if b.tail == name else b.tail
+                if other not in dist:
+                    dist[other] = dist[name] + 1
+                    frontier.append(other)
+        return dist
+
+    def _choices(self) -> list[tuple[int, str, bool, str]]:
+        """(bond, element, preferred effort_in, reason) per choice point, in name order."""
+        flat = self.flat
+        # storage nearest the sources first (the motor's inertia before the load's),
+        # ties by name: nothing here depends on the order of add/connect
+        dist = self._distance_from_sources()
+        by_name = sorted(flat.elements, key=lambda el: (dist.get(el.name, len(dist) + 1), el.name))
+        out = []
+        for el in by_name:
+            if el.kind in _STORAGE:
+                (k,) = flat.incidence[el.name]
+                out.append((k, el.name, el.kind == "I", f"integral causality of {el.label()}"))
+        for el in by_name:
+            if el.kind == "R":
+                (k,) = flat.incidence[el.name]
+                out.append((k, el.name, False, f"arbitrary choice for {el.label()}"))
+        seen: dict[tuple[str, str], int] = {}
+        keyed = []
+        for k, b in enumerate(self.bonds):
+            nth = seen.get((b.tail, b.head), 0)
+            seen[(b.tail, b.head)] = nth + 1
+            keyed.append(((b.tail, b.head, nth), k))
+        for _, k in sorted(keyed):
+            out.append((k, self.bonds[k].head, False, f"arbitrary choice for bond {k + 1}"))
+        return out
+
+    def _search(self) -> set[int]:
+        """Decide every bond; return the choice points that were free when reached."""
+        choices = self._choices()
+        stack: list[tuple[int, int, bool]] = []   # (choice index, journal mark, alternative left)
+        free: set[int] = set()
+        first_error: CausalityConflictError | None = None
+        i = 0
+        while i < len(choices):
+            k, name, pref, reason = choices[i]
+            if self.head_gets_effort[k] is not None:
+                i += 1
+                continue
+            mark = len(self.trail)
+            values = [pref, not pref]
+            j = 0
+            while True:
+                if j < 2:
+                    try:
+                        self._set(k, name, values[j], reason)
+                        self._propagate()
+                        stack.append((i, mark, j == 0))
+                        free.add(i)
+                        i += 1
+                        break
+                    except CausalityConflictError as err:
+                        first_error = first_error or err
+                        self._undo(mark)
+                        j += 1
+                        continue
+                # both values failed here: go back to the latest choice with an alternative
+                while stack and not stack[-1][2]:
+                    free.discard(stack.pop()[0])
+                if not stack:
+                    assert first_error is not None
+                    raise CausalityConflictError(
+                        f"{first_error} (no causal assignment exists: every alternative of the "
+                        "storage, R and junction choices leads to a conflict; the junction "
+                        "structure may be redundant, e.g. a circuit drawn with a 0-junction for "
+                        "every node including ground: remove the ground node's junction)"
+                    ) from first_error
+                i, mark, _ = stack.pop()
+                free.discard(i)
+                self._undo(mark)
+                k, name, pref, reason = choices[i]
+                values = [pref, not pref]
+                j = 1
+        return {choices[i][0] for i in free}
 
     def run(self) -> AugmentedBondGraph:
         flat = self.flat
         els = flat.elements
-        for el in els:
+        for el in sorted(els, key=lambda el: el.name):
             if el.kind in ("Se", "Sf"):
                 (k,) = flat.incidence[el.name]
                 self._set(k, el.name, el.kind == "Sf", f"source {el.label()}")
                 self._propagate()
-        for el in els:
-            if el.kind in _STORAGE:
-                (k,) = flat.incidence[el.name]
-                if self.head_gets_effort[k] is None:
-                    self._set(k, el.name, el.kind == "I", f"integral causality of {el.label()}")
-                    self._propagate()
-        arbitrary = []
-        for el in els:
-            if el.kind == "R":
-                (k,) = flat.incidence[el.name]
-                if self.head_gets_effort[k] is None:
-                    arbitrary.append(el.name)
-                    self._choose(k, el.name, f"arbitrary choice for {el.label()}")
-        arbitrary_bonds = []
-        for k in range(len(self.bonds)):
-            if self.head_gets_effort[k] is None:
-                arbitrary_bonds.append(self.bonds[k].number)
-                self._choose(k, self.bonds[k].head, f"arbitrary choice for bond {k + 1}")
+        chosen = self._search()
         integral: list[str] = []
         derivative: list[str] = []
+        arbitrary: list[str] = []
+        arbitrary_bonds: list[int] = []
         for el in els:
             if el.kind in _STORAGE:
                 (k,) = flat.incidence[el.name]
                 (integral if self._ein(el.name, k) == (el.kind == "I") else derivative).append(el.name)
+            elif el.kind == "R" and flat.incidence[el.name][0] in chosen:
+                arbitrary.append(el.name)
+        one_ports = {flat.incidence[el.name][0] for el in els
+                     if el.kind in _STORAGE or el.kind == "R"}
+        arbitrary_bonds = sorted(k + 1 for k in chosen if k not in one_ports)
         aug = AugmentedBondGraph(
             flat=flat,
             stroke_at_head=tuple(self.head_gets_effort),

@@ -132,6 +132,10 @@ class _Deriver:
         self.xdot: dict[sympy.Symbol, sympy.Symbol] = {}
         self.udot: dict[sympy.Symbol, sympy.Symbol] = {}
         self.broken: dict[int, sympy.Symbol] = {}     # var -> loop unknown
+        # storage in derivative causality: its output variable and stored quantity are
+        # unknowns during the causal sweep, resolved once the algebraic loops are solved
+        self.dependent: dict[int, str] = {}            # output var -> element name
+        self.stored_sym: dict[str, sympy.Symbol] = {}  # element name -> its p or q
         # an integrator that is exactly an output takes the output's name
         self.preferred = {ex: n for n, ex in outputs.items() if isinstance(ex, Signal)}
 
@@ -220,11 +224,16 @@ class _Deriver:
     def _signal_value(self, sig: Signal) -> sympy.Expr:
         if sig.variable in ("effort", "flow"):
             v, sign = self._signal_var(sig)
-            return sign * self.val[v]
-        if isinstance(sig.target, str) and sig.target in self.state_of:
+            return sign * self._inp(v)
+        if isinstance(sig.target, str) and sig.target in self.flat.index:
             el = self.flat.element(sig.target)
             if (sig.variable == "displacement" and el.kind == "C") or (sig.variable == "momentum" and el.kind == "I"):
-                return self.state_of[sig.target]
+                if sig.target in self.state_of:
+                    return self.state_of[sig.target]
+                if sig.target in self.stored_sym:
+                    # a storage element in derivative causality: its momentum or
+                    # displacement is an algebraic function (p = I*f, q = C*e), not a state
+                    return self.stored_sym[sig.target]
         self._signal_var(sig)  # validate the target
         return self._integrator(sig)
 
@@ -233,15 +242,45 @@ class _Deriver:
         return expr.xreplace(sigs) if sigs else expr
 
     # ------------------------------------------------------------ ordering
+    def _dependent_var(self, name: str) -> int:
+        (k,) = self.flat.incidence[name]
+        return 2 * k if self.flat.element(name).kind == "I" else 2 * k + 1
+
+    @staticmethod
+    def _unknown(v: int) -> sympy.Symbol:
+        """Loop unknown for bond variable v: a Dummy, so no user name can clash with it."""
+        return sympy.Dummy(f"{'e' if v % 2 == 0 else 'f'}_{v // 2 + 1}", real=True)
+
+    def _break_dependent(self) -> None:
+        for name in self.aug.derivative:
+            el = self.flat.element(name)
+            (k,) = self.flat.incidence[name]
+            v = 2 * k if el.kind == "I" else 2 * k + 1   # I gives effort, C gives flow
+            self.dependent[v] = name
+            self.broken[v] = sympy.Dummy(f"{'e' if el.kind == 'I' else 'f'}_{name}", real=True)
+            self.stored_sym[name] = sympy.Dummy(f"{'p' if el.kind == 'I' else 'q'}_{name}", real=True)
+
+    def _stored(self, name: str) -> tuple[sympy.Expr, int]:
+        """Stored quantity (p or q) of a storage element in derivative causality, and the
+        sign of its output on the bond, from the bond variable it receives."""
+        el = cast(OnePort, self.flat.element(name))
+        (k,) = self.flat.incidence[name]
+        s = self._sign(name, k)
+        if el.kind == "I":
+            stored = _subs(el.backward(), F_VAR, s * self.val[2 * k + 1])
+            return (self._resolve(stored) if el.signals() else stored), 1
+        stored = _subs(el.backward(), E_VAR, self.val[2 * k])
+        return (self._resolve(stored) if el.signals() else stored), s
+
     def _break_loops(self) -> None:
         for name in self.aug.arbitrary:
             (k,) = self.flat.incidence[name]
             v = 2 * k if self._ein(name, k) else 2 * k + 1
-            self.broken[v] = sympy.Symbol(f"{'e' if v % 2 == 0 else 'f'}_{k + 1}", real=True)
+            self.broken[v] = self._unknown(v)
         for number in self.aug.arbitrary_bonds:
             k = number - 1
             v = 2 * k if self.aug.stroke_at_head[k] else 2 * k + 1
-            self.broken[v] = sympy.Symbol(f"{'e' if v % 2 == 0 else 'f'}_{number}", real=True)
+            self.broken[v] = self._unknown(v)
 
     def _order(self) -> list[int]:
         """Variables in causal order (iterative depth-first, linear time)."""
@@ -268,14 +307,11 @@ class _Deriver:
                         state[u] = 1
                         stack.append((u, iter(self._deps(u, extra))))
                         break
-                    if state[u] == 1:
-                        cyc = [w for w, _ in stack[[w for w, _ in stack].index(u):]]
-                        bonds = sorted({w // 2 + 1 for w in cyc})
-                        raise AlgebraicLoopError(
-                            f"model {self.flat.name!r}: zero-order causal loop through bonds "
-                            f"{', '.join(map(str, bonds))} that no arbitrary R choice breaks "
-                            "(a modulus that depends on the variables it modulates?)"
-                        )
+                    if state[u] == 1 and u not in self.broken:
+                        # a zero-order causal cycle that no arbitrary choice broke (junction
+                        # cycles, parallel bonds): tear it here with an unknown for u
+                        self.broken[u] = self._unknown(u)
+                        continue
                 else:
                     state[v] = 2
                     order.append(v)
@@ -335,12 +371,7 @@ class _Deriver:
                 if is_flow:   # f = inverse(e)
                     return s * _subs(el.backward(), E_VAR, dual_in)
                 return _subs(el.forward(), F_VAR, s * dual_in)
-            # derivative causality: output is d/dt of the stored quantity
-            if kind == "I":
-                stored = _subs(el.backward(), F_VAR, s * dual_in)
-                return self._ddt(stored, el)
-            stored = _subs(el.backward(), E_VAR, dual_in)
-            return s * self._ddt(stored, el)
+            raise AssertionError(f"{el.label()} is in derivative causality")  # pragma: no cover
         if kind in ("0", "1"):
             strong_in = kind == "0"
             strong = next(j for j in inc if self._ein(name, j) is strong_in)
@@ -382,7 +413,7 @@ class _Deriver:
         sol: dict[sympy.Symbol, sympy.Expr] = {}
         cond = nx.condensation(dg)
         for c in nx.topological_sort(cond):
-            block = sorted(cond.nodes[c]["members"], key=lambda s: s.name)
+            block = sorted(cond.nodes[c]["members"], key=sympy.default_sort_key)
             eqs = [unknowns[u].xreplace(sol) for u in block]
             if len(block) == 1 and block[0] not in eqs[0].free_symbols:
                 sol[block[0]] = eqs[0]
@@ -401,11 +432,20 @@ class _Deriver:
                         )
                     M[i, j] = (1 if i == j else 0) - a
                 rhs[i] = ex.xreplace(zero)
+            M = M.applyfunc(sympy.cancel)
+            det = M[0, 0] if len(block) == 1 else sympy.cancel(M.det(method="bareiss"))
+            if det == 0:
+                names = ", ".join(u.name for u in block)
+                raise AlgebraicLoopError(
+                    f"model {self.flat.name!r}: the {what} in {names} is singular: the "
+                    "junction structure does not determine these variables (a node whose "
+                    "potential is defined only up to a constant, such as a circuit drawn with "
+                    "a 0-junction for every node including ground: remove the ground node's "
+                    "junction; or storage elements joined so that they cannot be independent)"
+                )
             if len(block) == 1:
-                coeff = sympy.cancel(M[0, 0])
-                sol[block[0]] = rhs[0] / coeff
+                sol[block[0]] = rhs[0] / det
             else:
-                M = M.applyfunc(sympy.cancel)
                 x = M.LUsolve(rhs)
                 for u, val in zip(block, x):
                     sol[u] = val
@@ -414,9 +454,11 @@ class _Deriver:
     # ------------------------------------------------------------ main
     def run(self) -> Model:
         self._make_symbols()
+        self._break_dependent()
         self._break_loops()
         for v in self._order():
-            self.val[v] = self._compute(v)
+            if v not in self.dependent:
+                self.val[v] = self._compute(v)
 
         # raw state equations (may contain loop unknowns and state derivatives)
         raw: list[sympy.Expr] = []
@@ -439,8 +481,30 @@ class _Deriver:
             raw.append(self._signal_value(base))
             done += 1
         # unknowns of algebraic loops
-        zsol = self._solve_blocks({z: self.val[v] for v, z in self.broken.items()}, "algebraic loop")
+        zsol = self._solve_blocks({z: self.val[v] for v, z in self.broken.items()
+                                   if v not in self.dependent}, "algebraic loop")
+        # storage in derivative causality: stored quantity and its time derivative
+        dep_syms = set(self.stored_sym.values()) | {self.broken[v] for v in self.dependent}
+        for v, name in self.dependent.items():
+            el = self.flat.element(name)
+            stored, sign = self._stored(name)
+            stored = stored.xreplace(zsol)
+            if stored.free_symbols & dep_syms:
+                others = sorted(n for n, sym in self.stored_sym.items()
+                                if sym in stored.free_symbols or
+                                self.broken[self._dependent_var(n)] in stored.free_symbols)
+                raise AlgebraicLoopError(
+                    f"{el.label()} is in derivative causality and its input depends on the "
+                    f"storage element(s) {', '.join(others or [name])}, also in derivative "
+                    "causality (a higher-index model); make one of them compliant or add a "
+                    "storage element between them"
+                )
+            zsol[self.stored_sym[name]] = stored
+            zsol[self.broken[v]] = sign * self._ddt(stored, el)
         if zsol:
+            # loop unknowns may hold dependent-storage unknowns: substitute to the bottom
+            for u in list(zsol):
+                zsol[u] = zsol[u].xreplace(zsol)
             raw = [r.xreplace(zsol) for r in raw]
             out_exprs = [o.xreplace(zsol) for o in out_exprs]
         # derivative causality: x' = raw(x, u, x')

@@ -188,7 +188,7 @@ def test_input_derivatives_cannot_be_generated():
     g.add(bg.Sf("v"), bg.I("m"))
     g.connect("v", "m")
     with pytest.raises(CodegenError, match="time derivatives of inputs"):
-        generate_c(bg.derive(g, outputs={"p": bg.momentum("m")}))
+        generate_c(bg.derive(g, outputs={"F": bg.effort("m")}))   # F = m dv/dt
 
 
 def test_write_c_is_all_or_nothing(tmp_path):

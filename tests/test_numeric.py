@@ -359,7 +359,7 @@ def test_simulation_argument_errors(motor):
     g.add(bg.Sf("v"), bg.I("m"))
     g.connect("v", "m")
     with pytest.raises(NumericError, match="time derivatives of inputs"):
-        NumericDynamics(bg.derive(g, outputs={"p": bg.momentum("m")}))
+        NumericDynamics(bg.derive(g, outputs={"F": bg.effort("m")}))
 
 
 def test_solver_failure_is_reported():
