@@ -144,7 +144,8 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, default=100000, help="first graph seed (default 100000; "
                     "the CI test uses 0..)")
     ap.add_argument("--jobs", type=int, default=2, help="worker processes (default 2)")
-    ap.add_argument("--timeout", type=float, default=30.0, help="seconds per graph (default 30)")
+    ap.add_argument("--timeout", type=float, default=30.0,
+                    help="CPU seconds per graph (default 30; wall-clock backstop 4x + 10)")
     ap.add_argument("--max-elements", type=int, default=25, help="graph size limit (default 25)")
     ap.add_argument("--reproducers", type=int, default=3,
                     help="failures per class to minimize and print (default 3)")
@@ -192,7 +193,7 @@ def main(argv=None) -> int:
     pool = _Pool(args.jobs, args.timeout, args.max_elements)
     try:
         pool.run([("check", args.seed + i) for i in range(args.n)],
-                 lambda t: args.timeout + 20.0, on_result, on_hang)
+                 lambda t: 4 * args.timeout + 30.0, on_result, on_hang)
         wall = time.perf_counter() - t0
 
         print(f"\ndifferential verification: {args.n} graphs (seeds {args.seed}.."
@@ -229,7 +230,7 @@ def main(argv=None) -> int:
                 print(f"\nminimizing {len(picks)} reproducers (budget {args.shrink_budget:g} s each)...",
                       file=sys.stderr, flush=True)
                 pool.run([("shrink", o, args.shrink_budget) for o in picks],
-                         lambda t: args.shrink_budget + 3 * args.timeout + 60,
+                         lambda t: args.shrink_budget + 5 * args.timeout + 60,
                          lambda t, r: shrunk.append(r["shrunk"]),
                          lambda t, s, why: shrunk.append(t[1]))
             for cls in gen.FAILURES:

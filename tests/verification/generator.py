@@ -35,6 +35,7 @@ import math
 import random
 import signal
 import time
+import warnings
 from contextlib import contextmanager
 from dataclasses import dataclass, field, replace
 from typing import Callable, Optional
@@ -377,7 +378,9 @@ def generate(seed: int, *, max_elements: int = 25, family: Optional[str] = None,
     """A random valid linear bond graph, reproducible from ``seed``."""
     rng = random.Random(seed * 7919 + 17)
     fam = family or rng.choice(FAMILIES)
-    for _attempt in range(100):
+    for attempt in range(400):
+        if attempt == 200:
+            fam = "rigid"          # the smallest family, when the size limit is tight
         d = _Draft(rng)
         _BUILDERS[fam](d)
         d.fix_degrees()
@@ -458,7 +461,7 @@ def values(g: Graph) -> dict[str, float]:
 
 
 def dsl(g: Graph, order_seed: Optional[int] = None, *, s: Optional[complex] = None,
-        expected=None, got=None) -> str:
+        expected=None, got=None, path: str = "symbolic") -> str:
     """Plain bondgraph code building ``g`` in the given insertion order."""
     ctor = {"Zero": "Zero", "One": "One"}
     kinds = {el.name: el.kind for el in g.elements}
@@ -493,8 +496,15 @@ def dsl(g: Graph, order_seed: Optional[int] = None, *, s: Optional[complex] = No
     lines.append(f"model = bg.derive(g, outputs={{{outs}}})")
     lines.append(f"values = {values(g)!r}")
     if s is not None:
+        lines[0] = "import bondgraph as bg\nimport numpy as np"
         lines.append(f"s = {s!r}")
-        lines.append("T = model.transfer_matrix().subs(values)    # den, nums (highest power first)")
+        if path == "numeric":
+            lines.append("P = bg.compile_plant(model).plant(values)")
+            lines.append("print(P.C @ np.linalg.solve(s * np.eye(len(P.A)) - P.A, P.B) + P.D)")
+        else:
+            lines.append("T = model.transfer_matrix().subs(values)")
+            lines.append("print(T.output_names, T.input_names, [[np.polyval(n, s) / np.polyval(T.den, s) "
+                         "for n in row] for row in T.nums])")
     if expected is not None:
         lines.append(f"# reference G(s) [outputs x inputs]: {_fmt(expected)}")
     if got is not None:
@@ -515,21 +525,29 @@ class GraphTimeout(BaseException):
 
 @contextmanager
 def time_limit(seconds: Optional[float]):
-    """SIGALRM-based time limit (main thread only); no-op when None."""
+    """Limit the CPU time of the block to ``seconds`` (``ITIMER_PROF``, so a loaded
+    machine does not cause spurious timeouts), with a wall-clock backstop of
+    ``4*seconds + 10`` (``ITIMER_REAL``); raises :class:`GraphTimeout`.  Main
+    thread only (as under pytest and pytest-xdist workers); no-op when None.
+    """
     if not seconds:
         yield
         return
 
     def handler(signum, frame):
-        raise GraphTimeout(f"time limit of {seconds} s")
+        kind = "CPU" if signum == signal.SIGPROF else "wall-clock"
+        raise GraphTimeout(f"{kind} time limit of {seconds if kind == 'CPU' else 4 * seconds + 10:g} s")
 
-    old = signal.signal(signal.SIGALRM, handler)
-    signal.setitimer(signal.ITIMER_REAL, seconds)
+    old = {sig: signal.signal(sig, handler) for sig in (signal.SIGPROF, signal.SIGALRM)}
+    signal.setitimer(signal.ITIMER_PROF, seconds)
+    signal.setitimer(signal.ITIMER_REAL, 4 * seconds + 10)
     try:
         yield
     finally:
+        signal.setitimer(signal.ITIMER_PROF, 0)
         signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, old)
+        for sig, h in old.items():
+            signal.signal(sig, h)
 
 
 @dataclass
@@ -560,7 +578,7 @@ class Outcome:
     def reproducer(self) -> str:
         head = f"# {self.cls}: {self.detail}".rstrip()
         return head + "\n" + dsl(self.graph, self.order_seed, s=self.s, expected=self.expected,
-                                 got=self.got)
+                                 got=self.got, path="numeric" if "numeric" in self.detail else "symbolic")
 
 
 _EPS = np.finfo(float).eps
@@ -637,7 +655,16 @@ def _numeric_at(plant, s_list, in_names, out_names):
 
 
 def _run_order(g: Graph, order_seed, ref: Optional[Reference], s_list, G_ref, well_posed: bool):
-    """Both engine paths in one insertion order -> list of PathResult."""
+    """Both engine paths in one insertion order -> list of PathResult.
+
+    Engine warnings (reversed bonds are generated on purpose) are silenced.
+    """
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return _run_order_quiet(g, order_seed, s_list, G_ref, well_posed)
+
+
+def _run_order_quiet(g: Graph, order_seed, s_list, G_ref, well_posed: bool):
     import bondgraph as bg
 
     vals = values(g)
