@@ -629,7 +629,11 @@ def _symbolic_at(tm, vals: dict, s_list, in_names, out_names):
 
 
 def _numeric_at(plant, s_list, in_names, out_names):
+    """``C (sI-A)^-1 B + D + sum_k D_derivatives[k-1] s^k`` at each s, aligned to
+    (outputs, inputs).  A purely imaginary ``s = j*w`` goes through the plant's
+    public ``frequency_response([w])`` instead."""
     A, Bm, C, D = (np.asarray(M, float) for M in (plant.A, plant.B, plant.C, plant.D))
+    Dd = [np.asarray(M, float) for M in getattr(plant, "D_derivatives", ())]
     ins, outs = list(plant.input_names), list(plant.output_names)
     n = A.shape[0]
     res = []
@@ -644,7 +648,12 @@ def _numeric_at(plant, s_list, in_names, out_names):
             Hb = 8 * (n + 2) * _EPS * (cond * np.abs(C) @ np.abs(X) + np.abs(D))
         else:
             H = D.astype(complex)
-            Hb = np.zeros(D.shape)
+            Hb = 4 * _EPS * np.abs(D)
+        for k, Mk in enumerate(Dd, start=1):
+            H = H + Mk * s ** k
+            Hb = Hb + 4 * _EPS * np.abs(Mk) * abs(s) ** k
+        if s.real == 0:
+            H = np.asarray(plant.frequency_response([s.imag]))[0]
         for i, o in enumerate(out_names):
             for j, u in enumerate(in_names):
                 if u in ins and o in outs:
@@ -737,7 +746,7 @@ def check(g: Graph, *, orders=(None, 1), n_s: int = 2, seed: int = 0,
         with time_limit(time_limit_s):
             ref = Reference(g, seed=seed)
             well = ref.well_posed
-            s_list = ref.pick_s(rng, n_s) if well else []
+            s_list = ref.pick_s(rng, n_s, axis=True) if well else []
             G_ref = [ref.evaluate(s) for s in s_list]
             for o in orders:
                 paths += _run_order(g, o, ref, s_list, G_ref, well)

@@ -55,6 +55,7 @@ Examples
 
 from __future__ import annotations
 
+import math
 import random
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -404,22 +405,27 @@ class Reference:
         return np.array([[complex(float(re), float(im)) for re, im in row] for row in ex],
                         dtype=complex).reshape(len(self.output_names), len(self.inputs))
 
-    def pick_s(self, rng: random.Random, count: int, *, clearance: float = 0.05) -> list[complex]:
+    def pick_s(self, rng: random.Random, count: int, *, clearance: float = 0.05,
+               axis: bool = False) -> list[complex]:
         """``count`` random ``s = 10**U(-1,1) * exp(i*U(0.2, 2.9))`` with four
-        significant digits, each at least ``clearance*|s|`` from every pole."""
+        significant digits, each at least ``clearance*|s|`` from every pole;
+        with ``axis``, one more on the imaginary axis, ``s = i*10**U(-1,1)``."""
         poles = self.poles()
         picked: list[complex] = []
-        for _ in range(200 * count):
-            if len(picked) == count:
+        want = count + int(axis)
+        for _ in range(200 * want):
+            if len(picked) == want:
                 break
             mag = 10 ** rng.uniform(-1, 1)
-            ang = rng.uniform(0.2, 2.9)
-            z = mag * complex(np.cos(ang), np.sin(ang))
+            ang = math.pi / 2 if (axis and len(picked) == count) else rng.uniform(0.2, 2.9)
+            z = mag * complex(math.cos(ang), math.sin(ang))
             z = complex(float(f"{z.real:.4g}"), float(f"{z.imag:.4g}"))
+            if ang == math.pi / 2:
+                z = complex(0.0, z.imag)
             if poles.size and np.min(np.abs(poles - z)) < clearance * abs(z):
                 continue
             picked.append(z)
-        while len(picked) < count:  # pragma: no cover - dense poles everywhere
+        while len(picked) < want:  # pragma: no cover - dense poles everywhere
             picked.append(complex(0.3, 1.7 + len(picked)))
         return picked
 
