@@ -22,9 +22,9 @@ Matrix([
 from .causality import AugmentedBondGraph, CausalBond, assign_causality
 from .elements import GY, MGY, MTF, TF, C, Element, I, One, Port, R, Se, Sf, Zero
 from .equations import derive
-from .errors import (AlgebraicLoopError, BondGraphError, CausalityConflictError,
+from .errors import (AlgebraicLoopError, BondGraphError, BondGraphWarning, CausalityConflictError,
                      CausalityError, DuplicateNameError, LawError, ModelStructureError,
-                     NonlinearModelError, OutputError, ParameterError, PortError,
+                     NameClashError, NonlinearModelError, OutputError, ParameterError, PortError,
                      UnknownElementError)
 from .flatten import FlatGraph, flatten
 from .graph import Bond, BondGraph
@@ -48,7 +48,8 @@ __all__ = [
     "Signal", "effort", "flow", "displacement", "momentum", "p", "q", "e", "f", "t",
     "BondGraphError", "ModelStructureError", "DuplicateNameError", "UnknownElementError",
     "PortError", "ParameterError", "LawError", "CausalityError", "CausalityConflictError",
-    "AlgebraicLoopError", "OutputError", "NonlinearModelError",
+    "AlgebraicLoopError", "OutputError", "NonlinearModelError", "NameClashError",
+    "BondGraphWarning",
     "ModelDefinition", "ModelFileError", "load_model",
     "compile_plant", "numeric_plant", "NumericModel", "NumericStateSpace", "BatchStateSpace",
     "simulate", "SimulationResult", "to_nonlinear_iosys", "ParameterValueError",

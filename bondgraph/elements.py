@@ -90,10 +90,13 @@ def check_name(name: object, what: str) -> str:
     return name
 
 
-def to_expr(value: ParameterLike, *, owner: str, what: str) -> Optional[sympy.Expr]:
+def to_expr(value: ParameterLike, *, owner: str, what: str,
+            law: bool = False) -> Optional[sympy.Expr]:
     """Turn a user-supplied parameter into a sympy expression, never parsing text.
 
-    Strings must be (dotted) identifiers and become positive symbols.
+    Strings must be (dotted) identifiers and become positive symbols.  Law
+    variables (``bg.p``, ``bg.q``, ``bg.e``, ``bg.f``) are accepted only in a
+    law (``law=True``): in a parameter they would silently become a parameter.
     """
     if value is None:
         return None
@@ -102,6 +105,15 @@ def to_expr(value: ParameterLike, *, owner: str, what: str) -> Optional[sympy.Ex
     if isinstance(value, sympy.Basic):
         if not isinstance(value, sympy.Expr):
             raise ParameterError(f"{owner}: {what} must be a sympy expression, got {type(value).__name__}")
+        if not law:
+            own = sorted(str(s) for s in value.free_symbols if isinstance(s, LawVariable))
+            if own:
+                raise ParameterError(
+                    f"{owner}: {what} {value} uses the law variable(s) {', '.join(own)}; "
+                    "a law in the element's own variable is given with law= (for example "
+                    "bg.R('d', law=c*bg.f*abs(bg.f))), a parameter is a number, symbol or "
+                    "expression of parameters and signals"
+                )
         return value
     if isinstance(value, numbers.Integral):
         return sympy.Integer(int(value))
@@ -129,7 +141,7 @@ def _law(value: LawLike, own: LawVariable, *, owner: str, what: str) -> Optional
         return None
     if callable(value) and not isinstance(value, sympy.Basic):
         value = value(own)
-    expr = to_expr(value, owner=owner, what=f"{what} law")
+    expr = to_expr(value, owner=owner, what=f"{what} law", law=True)
     if expr is None:  # pragma: no cover - value is not None here
         return None
     free = expr.free_symbols

@@ -33,6 +33,7 @@ Examples
 
 from __future__ import annotations
 
+import warnings
 from typing import Mapping, Optional, Union, cast
 
 import networkx as nx
@@ -40,9 +41,10 @@ import sympy
 
 from .causality import AugmentedBondGraph, assign_causality, dependencies
 from .elements import Element, OnePort, TwoPort
-from .errors import AlgebraicLoopError, OutputError
+from .errors import AlgebraicLoopError, BondGraphWarning, NameClashError, OutputError
 from .flatten import FlatGraph
 from .graph import BondGraph
+from .integrators import state_combination
 from .model import Model
 from .signals import LawVariable, Signal, e as E_VAR, f as F_VAR, p as P_VAR, q as Q_VAR, t as T_SYM
 
@@ -91,7 +93,24 @@ def derive(graph: Union[BondGraph, AugmentedBondGraph], outputs: OutputSpec = No
     """
     aug = graph if isinstance(graph, AugmentedBondGraph) else assign_causality(graph)
     outputs = _check_outputs(outputs)
+    _warn_reversed(aug.flat)
     return _Deriver(aug, outputs).run()
+
+
+def _warn_reversed(flat: FlatGraph) -> None:
+    """Warn once per element whose bond carries power out of an I, C or R."""
+    for el in flat.elements:
+        if isinstance(el, OnePort):
+            (k,) = flat.incidence[el.name]
+            b = flat.bonds[k]
+            if b.tail == el.name:
+                warnings.warn(
+                    f"bond {b.number} points out of {el.label()} ({b.tail} -> {b.head}): its "
+                    "law holds for power flowing into it, so its flow (and momentum or "
+                    f"displacement) has the opposite sign; connect(..., {el.name!r}) is the usual "
+                    "direction. Silence with warnings.simplefilter('ignore', "
+                    "bondgraph.BondGraphWarning)",
+                    BondGraphWarning, stacklevel=3)
 
 
 def _check_outputs(outputs: OutputSpec) -> dict[str, sympy.Expr]:
@@ -148,20 +167,33 @@ class _Deriver:
         hge = self.aug.stroke_at_head[k]
         return hge if self.bonds[k].head == name else not hge
 
+    def _claim(self, name: str, role: str) -> None:
+        """Reserve a printed name for a state, an input or time; refuse a clash."""
+        if name in self.roles:
+            raise NameClashError(
+                f"model {self.flat.name!r}: the name {name!r} would stand for both "
+                f"{self.roles[name]} and {role}; rename one of the elements"
+            )
+        self.roles[name] = role
+
     def _make_symbols(self) -> None:
         integral = set(self.aug.integral)
+        self.roles: dict[str, str] = {T_SYM.name: "time"}
         for el in self.flat.elements:
             if el.kind in ("I", "C") and el.name in integral:
                 sym = sympy.Symbol(("p_" if el.kind == "I" else "q_") + el.name, real=True)
+                self._claim(sym.name, f"the state of {el.label()}")
                 self.state_of[el.name] = sym
                 self.states.append(sym)
                 self.state_names.append(sym.name)
-            elif el.kind in ("Se", "Sf") and getattr(el, "value", None) is None:
+        for el in self.flat.elements:
+            if el.kind in ("Se", "Sf") and getattr(el, "value", None) is None:
                 sym = sympy.Symbol(el.name, real=True)
+                self._claim(sym.name, f"the input of {el.label()}")
                 self.input_of[el.name] = sym
                 self.input_syms.append(sym)
         for sym in self.states:
-            self.xdot[sym] = sympy.Symbol(f"Derivative({sym.name})", real=True)
+            self.xdot[sym] = sympy.Dummy(f"d{sym.name}/dt", real=True)
         for sym in self.input_syms:
             self.udot[sym] = sympy.Symbol(f"d{sym.name}/dt", real=True)
 
@@ -169,15 +201,31 @@ class _Deriver:
         if sig not in self.integrators:
             base = "x" if sig.variable == "displacement" else "h"
             name = self.preferred.get(sig) or f"{base}_{sig.target}"
-            taken = {s.name for s in self.states} | {s.name for s in self.input_syms}
-            if name in taken:
+            if name in self.roles:
                 name = f"{base}_{sig.target}"
+            stem, n = name, 2
+            while name in self.roles:
+                name, n = f"{stem}_{n}", n + 1
+            self._claim(name, f"the integral of {sig}")
             sym = sympy.Symbol(name, real=True)
             self.integrators[sig] = sym
             self.states.append(sym)
             self.state_names.append(name)
-            self.xdot[sym] = sympy.Symbol(f"Derivative({name})", real=True)
+            self.xdot[sym] = sympy.Dummy(f"d{name}/dt", real=True)
         return self.integrators[sig]
+
+    def _check_parameter_names(self, exprs) -> None:
+        """A parameter must not print like a state, an input or time."""
+        known = set(self.states) | set(self.input_syms) | set(self.udot.values()) | {T_SYM}
+        for ex in exprs:
+            for sym in ex.free_symbols - known:
+                if isinstance(sym, sympy.Dummy):
+                    continue
+                if sym.name in self.roles:
+                    raise NameClashError(
+                        f"model {self.flat.name!r}: the parameter {sym.name!r} would print "
+                        f"like {self.roles[sym.name]}; rename the element or parameter"
+                    )
 
     # ------------------------------------------------------------ signals
     def _signal_var(self, sig: Signal) -> tuple[int, int]:
@@ -530,6 +578,9 @@ class _Deriver:
             rhs = raw
             xsol = dict(zip(xd_of, raw))
         out_exprs = [o.xreplace(xsol) if o.free_symbols & xd_syms else o for o in out_exprs]
+        states, rhs, out_exprs, descriptor = self._reuse_states(
+            states, list(rhs), out_exprs, descriptor, n_storage)
+        self._check_parameter_names(list(rhs) + list(out_exprs))
         inputs = tuple(self.input_syms)
         udots = tuple(self.udot[u] for u in inputs
                       if any(self.udot[u] in r.free_symbols for r in list(rhs) + out_exprs))
@@ -544,7 +595,38 @@ class _Deriver:
             input_derivatives=udots,
             descriptor=descriptor,
             storage_states=n_storage,
+            integrators=tuple((sym.name, str(sig)) for sig, sym in self.integrators.items()
+                              if sym in states),
         )
+
+    def _reuse_states(self, states, rhs, out_exprs, descriptor, n_storage):
+        """Replace integrators whose integrand is a combination of state derivatives."""
+        if len(states) == n_storage:
+            return states, rhs, out_exprs, descriptor
+        drop: dict[int, sympy.Expr] = {}
+        in_rhs = set().union(*(r.free_symbols for r in rhs))
+        E = descriptor[0] if descriptor is not None else None
+        for i in range(n_storage, len(states)):
+            x = states[i]
+            if x in in_rhs:
+                continue    # an integrator read by a modulus stays a state
+            if E is not None and any(E[i, j] != (1 if i == j else 0) or
+                                     E[j, i] != (1 if i == j else 0) for j in range(len(states))):
+                continue
+            combo = state_combination(rhs[i], states[:n_storage], rhs[:n_storage],
+                                      self.input_syms)
+            if combo is not None:
+                drop[i] = combo
+        if not drop:
+            return states, rhs, out_exprs, descriptor
+        sub = {states[i]: c for i, c in drop.items()}
+        keep = [i for i in range(len(states)) if i not in drop]
+        out_exprs = [o.xreplace(sub) for o in out_exprs]
+        if descriptor is not None:
+            E, F = descriptor
+            descriptor = (sympy.ImmutableMatrix(E.extract(keep, keep)),
+                          tuple(F[i] for i in keep))
+        return [states[i] for i in keep], [rhs[i] for i in keep], out_exprs, descriptor
 
 
 def _subs(expr: sympy.Expr, var: LawVariable, value: sympy.Expr) -> sympy.Expr:

@@ -21,6 +21,8 @@ __all__ = [
     "AlgebraicLoopError",
     "OutputError",
     "NonlinearModelError",
+    "NameClashError",
+    "BondGraphWarning",
 ]
 
 
@@ -70,3 +72,14 @@ class OutputError(BondGraphError, ValueError):
 
 class NonlinearModelError(BondGraphError, ValueError):
     """A linear form was asked of a model that is not linear."""
+
+
+class NameClashError(ModelStructureError):
+    """Two different things of a model would print with the same name
+    (an input named ``p_m`` beside the state ``p_m`` of ``I('m')``)."""
+
+
+class BondGraphWarning(UserWarning):
+    """A model that is valid but probably not what was meant (a bond that
+    points out of an I, C or R element).  Silence with
+    ``warnings.simplefilter("ignore", bondgraph.BondGraphWarning)``."""

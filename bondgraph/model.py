@@ -43,6 +43,12 @@ class Model:
     storage_states : int
         How many of the states belong to storage elements (the rest are
         integrators added for displacement or momentum signals).
+    integrators : tuple of (str, str)
+        The integrator states that were added, each with the signal it
+        integrates (``("x", "displacement[m]")``).  A displacement or
+        momentum whose flow or effort is a constant combination of state
+        derivatives adds none: it is that combination of states (see
+        :mod:`bondgraph.integrators`).
 
     Examples
     --------
@@ -73,6 +79,7 @@ class Model:
     input_derivatives: tuple[sympy.Symbol, ...] = field(default=(), repr=False)
     descriptor: Optional[tuple] = field(default=None, repr=False)
     storage_states: int = field(default=0, repr=False)
+    integrators: tuple[tuple[str, str], ...] = field(default=(), repr=False)
 
     # ----------------------------------------------------------------- names
     @property

@@ -1,0 +1,147 @@
+"""Displacement and momentum outputs expressed through existing states.
+
+An output such as ``bg.displacement("m")`` is the time integral of a flow.
+:func:`bondgraph.derive` first gives it an integrator state ``x' = f``; when
+``f`` is a constant linear combination of the other state derivatives,
+``f = sum_j c_j x_j'``, that integrator is redundant (it would make the plant
+uncontrollable: a pole at 0 that no input moves) and the output is
+``sum_j c_j x_j`` instead.  The integration constant is then fixed by the
+states: the displacement is measured from the configuration where those
+states are zero (for a mass on a spring, from the spring's free length).
+
+The combination is found numerically at random parameter values (a least
+squares solve that gives its support) and then solved and verified
+symbolically on that support, so a combination is used only when it holds
+exactly for every parameter value.
+
+Examples
+--------
+>>> import bondgraph as bg
+>>> g = bg.BondGraph("msd")
+>>> v = bg.One("v")
+>>> g.add(bg.Se("F"), v, bg.I("m"), bg.R("b"), bg.C("k", stiffness="k"))
+>>> for t, h in [("F", v), (v, "m"), (v, "b"), (v, "k")]: _ = g.connect(t, h)
+>>> model = bg.derive(g, outputs={"x": bg.displacement("m")})
+>>> model.state_names, model.output_exprs
+(('p_m', 'q_k'), (q_k,))
+"""
+
+from __future__ import annotations
+
+from typing import Optional, Sequence
+
+import numpy as np
+import sympy
+
+from .signals import t as T_SYM
+
+__all__ = ["state_combination"]
+
+#: Above this many storage states the search is skipped (dense least squares).
+MAX_STATES = 400
+
+
+def _linear_row(expr: sympy.Expr, variables: Sequence[sympy.Symbol]) -> Optional[dict]:
+    """``{var: coefficient, 1: constant}`` of an expression affine in ``variables``."""
+    vs = set(variables)
+    free = expr.free_symbols
+    if T_SYM in free:
+        return None
+    row: dict = {}
+    for v in free & vs:
+        c = sympy.diff(expr, v)
+        if c.free_symbols & vs or T_SYM in c.free_symbols:
+            return None
+        row[v] = c
+    const = expr.xreplace({v: 0 for v in free & vs})
+    if const != 0:
+        row[1] = const
+    return row
+
+
+def state_combination(flow: sympy.Expr, states: Sequence[sympy.Symbol],
+                      rhs: Sequence[sympy.Expr], inputs: Sequence[sympy.Symbol],
+                      *, seed: int = 0) -> Optional[sympy.Expr]:
+    """``sum_j c_j x_j`` with constant ``c`` such that ``flow == sum_j c_j rhs_j``, or None.
+
+    Parameters
+    ----------
+    flow : sympy.Expr
+        The integrand, an expression of states and inputs.
+    states, rhs : sequences
+        Storage states and their derivatives ``x_j' = rhs_j``.
+    inputs : sequence of sympy.Symbol
+
+    Examples
+    --------
+    >>> import sympy
+    >>> x1, x2, u, k = sympy.symbols("x1 x2 u k")
+    >>> state_combination(2*x1 + u, [x1, x2], [k*x1, x1 + u], [u])
+    x2 + x1/k
+    >>> state_combination(x1, [x1], [u], [u]) is None
+    True
+    """
+    n = len(states)
+    if n == 0 or n > MAX_STATES:
+        return None
+    variables = list(states) + list(inputs)
+    target = _linear_row(flow, variables)
+    if target is None or not target:
+        return None
+    rows = []
+    for r in rhs:
+        row = _linear_row(r, variables)
+        if row is None:
+            return None
+        rows.append(row)
+    cols = variables + [1]
+    col_index = {c: i for i, c in enumerate(cols)}
+    params = set()
+    for row in rows + [target]:
+        for c in row.values():
+            params |= c.free_symbols
+    rng = np.random.default_rng(seed)
+    values = {p: sympy.Float(rng.uniform(0.5, 2.0)) for p in params}
+
+    def number(c) -> float:
+        return float(complex(c.xreplace(values)).real) if c.free_symbols else float(c)
+
+    try:
+        M = np.zeros((n, len(cols)))
+        for j, row in enumerate(rows):
+            for v, c in row.items():
+                M[j, col_index[v]] = number(c)
+        t = np.zeros(len(cols))
+        for v, c in target.items():
+            t[col_index[v]] = number(c)
+    except (TypeError, ValueError):
+        return None
+    c, *_ = np.linalg.lstsq(M.T, t, rcond=None)
+    residual = float(np.linalg.norm(M.T @ c - t))
+    if not np.all(np.isfinite(c)) or residual > 1e-9 * max(1.0, float(np.linalg.norm(t))):
+        return None
+    scale = float(np.abs(c).max())
+    support = [j for j in range(n) if abs(c[j]) > 1e-12 * max(1.0, scale)]
+    if not support:
+        return None
+    # symbolic solve on the support: independent columns chosen numerically
+    sub = M[support].T                       # (columns, |support|)
+    chosen: list[int] = []
+    for i in np.argsort(-np.abs(sub).sum(axis=1), kind="stable"):
+        trial = chosen + [int(i)]
+        if np.linalg.matrix_rank(sub[trial], tol=1e-10) == len(trial):
+            chosen = trial
+        if len(chosen) == len(support):
+            break
+    if len(chosen) < len(support):
+        return None
+    A = sympy.Matrix([[rows[j].get(cols[i], 0) for j in support] for i in chosen])
+    b = sympy.Matrix([target.get(cols[i], 0) for i in chosen])
+    try:
+        coeffs = A.LUsolve(b)
+    except (ValueError, ZeroDivisionError):
+        return None
+    coeffs = [sympy.cancel(x) for x in coeffs]
+    if sympy.cancel(sympy.Add(*(cj * rhs[j] for cj, j in zip(coeffs, support))) - flow) != 0:
+        return None
+    return sympy.Add(*(cj * states[j] for cj, j in zip(coeffs, support)))
