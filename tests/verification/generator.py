@@ -742,6 +742,7 @@ def check(g: Graph, *, orders=(None, 1), n_s: int = 2, seed: int = 0,
     t0 = time.perf_counter()
     rng = random.Random(seed * 31 + g.seed)
     paths: list[PathResult] = []
+    current: object = "reference"     # what runs when a time limit strikes
     try:
         with time_limit(time_limit_s):
             ref = Reference(g, seed=seed)
@@ -749,10 +750,13 @@ def check(g: Graph, *, orders=(None, 1), n_s: int = 2, seed: int = 0,
             s_list = ref.pick_s(rng, n_s, axis=True) if well else []
             G_ref = [ref.evaluate(s) for s in s_list]
             for o in orders:
+                current = o
                 paths += _run_order(g, o, ref, s_list, G_ref, well)
     except GraphTimeout as exc:
-        return Outcome("timeout", g, str(exc), orders[len({p.order_seed for p in paths}) % len(orders)]
-                       if paths else orders[0], paths=paths, seconds=time.perf_counter() - t0)
+        where = "in the reference" if current == "reference" else f"insertion order {current}"
+        return Outcome("timeout", g, f"{exc} ({where})", None if current == "reference" else current,
+                       paths=paths,
+                       seconds=time.perf_counter() - t0)
     out = _classify(g, well, paths, s_list, G_ref)
     out.seconds = time.perf_counter() - t0
     return out
