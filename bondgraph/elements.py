@@ -43,6 +43,7 @@ q**3 + 3*q
 from __future__ import annotations
 
 import keyword
+import math
 import numbers
 import re
 from dataclasses import dataclass, field, replace
@@ -81,7 +82,7 @@ _DOTTED = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*$")
 
 def check_name(name: object, what: str) -> str:
     """Validate an element or graph name: an identifier without dots."""
-    if not isinstance(name, str) or not _NAME.match(name) or keyword.iskeyword(name):
+    if not isinstance(name, str) or not _NAME.fullmatch(name) or keyword.iskeyword(name):
         raise ModelStructureError(
             f"{what} name {name!r} is not valid: expected an identifier such as "
             "'Ra' or 'motor' (letters, digits, underscores; no dots, which separate "
@@ -114,6 +115,7 @@ def to_expr(value: ParameterLike, *, owner: str, what: str,
                     "bg.R('d', law=c*bg.f*abs(bg.f))), a parameter is a number, symbol or "
                     "expression of parameters and signals"
                 )
+        _check_numbers(value, owner=owner, what=what)
         return value
     if isinstance(value, numbers.Integral):
         return sympy.Integer(int(value))
@@ -123,7 +125,7 @@ def to_expr(value: ParameterLike, *, owner: str, what: str,
             raise ParameterError(f"{owner}: {what} must be finite, got {value!r}")
         return sympy.Float(fval)
     if isinstance(value, str):
-        if not _DOTTED.match(value) or keyword.iskeyword(value):
+        if not _DOTTED.fullmatch(value) or keyword.iskeyword(value):
             raise ParameterError(
                 f"{owner}: {what} {value!r} is not a parameter name; give an identifier "
                 "such as 'Rm', a number, or a sympy expression (text is never parsed)"
@@ -133,6 +135,31 @@ def to_expr(value: ParameterLike, *, owner: str, what: str,
         f"{owner}: {what} must be a number, an identifier string or a sympy expression; "
         f"got {type(value).__name__}"
     )
+
+
+def _check_numbers(value: sympy.Expr, *, owner: str, what: str) -> None:
+    """Refuse nan, infinities, complex numbers and overflowing floats in an expression."""
+    bad = value.has(sympy.nan, sympy.oo, -sympy.oo, sympy.zoo, sympy.I)
+    if not bad:
+        for atom in value.atoms(sympy.Number):
+            if not math.isfinite(float(atom)):
+                bad = True
+    if bad:
+        raise ParameterError(
+            f"{owner}: {what} {sympy.sstr(value)[:40]} is not a finite real value (nan, infinity or a complex "
+            "number); parameters are finite reals (negative values are allowed for active "
+            "elements)"
+        )
+
+
+def nonzero(value: Optional[sympy.Expr], *, owner: str, what: str) -> Optional[sympy.Expr]:
+    """Refuse an exact zero where the element divides by the value."""
+    if value is not None and value.is_zero:
+        raise ParameterError(
+            f"{owner}: {what} is 0, but the element divides by it; remove the element or "
+            "join its bonds with a junction instead"
+        )
+    return value
 
 
 def _law(value: LawLike, own: LawVariable, *, owner: str, what: str) -> Optional[sympy.Expr]:
@@ -334,7 +361,8 @@ class OnePort(Element):
     def __post_init__(self) -> None:
         super().__post_init__()
         owner = self.label()
-        object.__setattr__(self, "parameter", to_expr(self.parameter, owner=owner, what="parameter"))
+        object.__setattr__(self, "parameter", nonzero(
+            to_expr(self.parameter, owner=owner, what="parameter"), owner=owner, what="parameter"))
         object.__setattr__(self, "law", _law(self.law, self.own, owner=owner, what=self.law_name))
         object.__setattr__(self, "inverse", _law(self.inverse, self.inverse_own, owner=owner,
                                                  what=self.inverse_name))
@@ -460,7 +488,8 @@ class C(OnePort):
         if self.stiffness is not None:
             if self.parameter is not None or self.law is not None:
                 raise LawError(f"C:{self.name}: give one of parameter, stiffness or law")
-            k = to_expr(self.stiffness, owner=f"C:{self.name}", what="stiffness")
+            k = nonzero(to_expr(self.stiffness, owner=f"C:{self.name}", what="stiffness"),
+                        owner=f"C:{self.name}", what="stiffness")
             object.__setattr__(self, "law", k * Q_VAR)
             object.__setattr__(self, "inverse", E_VAR / k)
         super().__post_init__()
@@ -535,12 +564,14 @@ class TwoPort(Element):
     def __post_init__(self) -> None:
         super().__post_init__()
         owner = self.label()
-        eff = to_expr(self.efficiency, owner=owner, what="efficiency")
+        eff = nonzero(to_expr(self.efficiency, owner=owner, what="efficiency"),
+                      owner=owner, what="efficiency")
         if eff is not None and (eff.free_symbols & {T_SYM} or
                                 any(isinstance(s, (Signal, LawVariable)) for s in eff.free_symbols)):
             raise ParameterError(f"{owner}: efficiency {eff} must be a constant parameter")
         object.__setattr__(self, "efficiency", sympy.Integer(1) if eff is None else eff)
-        mod = to_expr(self.modulus, owner=owner, what="modulus")
+        mod = nonzero(to_expr(self.modulus, owner=owner, what="modulus"), owner=owner,
+                      what="modulus")
         if mod is None and self.modulated:
             raise ParameterError(f"{owner}: a modulated element needs modulus=<expression>")
         if mod is not None:

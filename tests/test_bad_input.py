@@ -161,3 +161,27 @@ def test_subgraph_port_errors():
 def test_errors_are_value_or_type_errors():
     for cls in (bg.ModelStructureError, bg.CausalityConflictError, bg.OutputError, bg.LawError):
         assert issubclass(cls, ValueError) and issubclass(cls, bg.BondGraphError)
+
+
+# ---------------------------------------------------------------- degenerate values
+@pytest.mark.parametrize("make, culprit", [
+    (lambda: bg.I("m", 0), "I:m: parameter is 0"),
+    (lambda: bg.C("k", stiffness=0), "C:k: stiffness is 0"),
+    (lambda: bg.TF("n", 0), "TF:n: modulus is 0"),
+    (lambda: bg.GY("r", 0.0), "GY:r: modulus is 0"),
+    (lambda: bg.TF("n", 2, efficiency=0), "TF:n: efficiency is 0"),
+    (lambda: bg.R("b", sympy.oo), "R:b: parameter oo is not a finite real"),
+    (lambda: bg.R("b", sympy.nan), "R:b: parameter nan is not a finite real"),
+    (lambda: bg.R("b", sympy.zoo), "R:b: parameter zoo is not a finite real"),
+    (lambda: bg.R("b", 1 + sympy.I), "R:b: parameter 1 \\+ I is not a finite real"),
+    (lambda: bg.R("b", sympy.Float("1e400")), "R:b: parameter 1000.* is not a finite real"),
+    (lambda: bg.R("b", "Rm\n"), "R:b: parameter 'Rm\\\\n' is not a parameter name"),
+    (lambda: bg.I("m\n"), "I name 'm\\\\n' is not valid"),
+])
+def test_degenerate_values_refused_at_construction(make, culprit):
+    with pytest.raises(bg.BondGraphError, match=culprit):
+        make()
+
+
+def test_negative_values_allowed_for_active_elements():
+    assert bg.R("b", -2).parameter == -2
