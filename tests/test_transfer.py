@@ -13,6 +13,8 @@ import pytest
 import sympy as sp
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from sympy.polys.domains import QQ_I
+from sympy.polys.matrices import DomainMatrix
 
 from bondgraph.transfer import (InvalidOptionError, MissingValueError, NumericTF,
                                 ParameterValueError,
@@ -617,3 +619,180 @@ def test_immutability():
         N.den = (1.0,)
     assert hash(G) == hash(transfer_function(A, B, C, D, output=1))
     assert isinstance(G, SymbolicTF)
+
+
+# ------------------------------------------- random systems with bond-graph entries
+# The entries a bond graph produces (issue 11): reciprocals of parameters
+# (1/m), of products (1/(R*C)), sums of reciprocals of distinct symbols
+# (-1/(R1*C1) - 1/(R2*C1), any node with two resistors), products and ratios
+# of parameters (n*r, J1/J2), several symbols per entry, and feedthroughs that
+# meet reciprocals (B = 1/a, C = a, D = 1).  The reference is exact and
+# independent of bondgraph.tf: the matrices are evaluated at rational
+# parameter values and a Gaussian-rational s, and (s0 E - A) X = B solved by
+# plain sympy Matrix LU on numbers.
+BG_PARAMS = sp.symbols("R1 R2 C1 C2 L1 a", positive=True)
+_SYM = st.sampled_from(BG_PARAMS)
+_SIGN = st.sampled_from([1, -1])
+
+
+@st.composite
+def bg_entry(draw):
+    kind = draw(st.integers(0, 8))
+    sign = draw(_SIGN)
+    if kind == 0:
+        return sp.Integer(0)
+    if kind == 1:
+        return sp.Integer(draw(st.integers(-2, 2)))
+    if kind == 2:                                   # 1/m
+        return sign / draw(_SYM)
+    if kind == 3:                                   # 1/(R C)
+        p, q = draw(st.lists(_SYM, min_size=2, max_size=2, unique=True))
+        return sign / (p * q)
+    if kind == 4:                                   # -1/(R1 C) - 1/(R2 C) (- 1/(R3 C))
+        syms = draw(st.lists(_SYM, min_size=3, max_size=4, unique=True))
+        c, rs = syms[0], syms[1:]
+        return sign * sp.Add(*[1 / (r * c) for r in rs])
+    if kind == 5:                                   # products, with an integer
+        p, q = draw(st.lists(_SYM, min_size=2, max_size=2, unique=True))
+        return sign * draw(st.integers(1, 2)) * p * q
+    if kind == 6:                                   # ratios J1/J2
+        p, q = draw(st.lists(_SYM, min_size=2, max_size=2, unique=True))
+        return sign * p / q
+    if kind == 7:                                   # a plain parameter (C = a)
+        return sign * draw(_SYM)
+    p, q, r = draw(st.lists(_SYM, min_size=3, max_size=3, unique=True))
+    return sign * (p + q) / r                       # (J1 + J2)/k, several symbols
+
+
+def bg_matrix(rows, cols):
+    return st.lists(st.lists(bg_entry(), min_size=cols, max_size=cols),
+                    min_size=rows, max_size=rows).map(sp.Matrix)
+
+
+@st.composite
+def bg_system(draw, descriptor=False, derivatives=False):
+    n, m, p = draw(st.integers(1, 3)), draw(st.integers(1, 2)), draw(st.integers(1, 2))
+    A, B, C, D = draw(bg_matrix(n, n)), draw(bg_matrix(n, m)), draw(bg_matrix(p, n)), \
+        draw(bg_matrix(p, m))
+    E = None
+    if descriptor:   # identity plus a rank-one coupling of parameters (rigid gear pairs)
+        E = sp.eye(n) + draw(bg_matrix(n, 1)).applyfunc(sp.Abs) * \
+            draw(bg_matrix(1, n)).applyfunc(sp.Abs)
+    if derivatives:  # input derivatives: B(s) = B0 + s B1, D(s) = D0 + s D1
+        B = B + s * draw(bg_matrix(n, m))
+        D = D + s * draw(bg_matrix(p, m))
+    values = {x: sp.Rational(draw(st.integers(1, 9)), draw(st.integers(1, 4))) for x in BG_PARAMS}
+    s0 = sp.Rational(draw(st.integers(-5, 5)), 3) + sp.I * sp.Rational(draw(st.integers(1, 7)), 2)
+    return A, B, C, D, E, values, s0
+
+
+def _gauss(expr, at):
+    """Exact value (a Gaussian rational, QQ_I) of an expression at the numbers ``at``."""
+    values = {k: v for k, v in at.items() if k != s}
+    e = sp.expand(sp.sympify(expr).xreplace(values))
+    return QQ_I.from_sympy(sp.expand(e.xreplace({s: at[s]})))
+
+
+def _tf_value(num: sp.Poly, den: sp.Poly, at):
+    """num(s0)/den(s0) from the coefficients, each evaluated exactly, Horner in QQ_I."""
+    values = {k: v for k, v in at.items() if k != s}
+    s0 = QQ_I.from_sympy(at[s])
+
+    def horner(P):
+        acc = QQ_I.zero
+        for c in P.all_coeffs():
+            acc = acc * s0 + QQ_I.from_sympy(sp.sympify(c).xreplace(values))
+        return acc
+    return horner(num) / horner(den)
+
+
+def exact_reference(A, B, C, D, E, values, s0):
+    """C (s0 E - A)^-1 B(s0) + D(s0) at numbers (QQ_I, sympy DomainMatrix);
+    None when s0 E - A is singular there."""
+    n = A.shape[0]
+    at = {**values, s: s0}
+
+    def dm(M):
+        return DomainMatrix([[_gauss(x, at) for x in M.row(i)] for i in range(M.rows)],
+                            M.shape, QQ_I)
+    M = dm(s0 * (sp.eye(n) if E is None else E) - A)
+    if M.det() == 0:
+        return None
+    return dm(C) * M.lu_solve(dm(B)) + dm(D)
+
+
+def pencil_is_singular(A, E, values, s0) -> bool:
+    n = A.shape[0]
+    P = s * (sp.eye(n) if E is None else E) - A
+    if P.subs({**values, s: s0}).det() != 0:
+        return False
+    return sp.cancel(sp.together(P.det())) == 0
+
+
+def check_against_reference(A, B, C, D, E, values, s0):
+    if pencil_is_singular(A, E, values, s0):
+        with pytest.raises(SingularPencilError):
+            transfer_matrix(A, B, C, D, E=E)
+        return
+    ref = exact_reference(A, B, C, D, E, values, s0)
+    if ref is None:   # s0 happens to be a pole at these values
+        return
+    at = {**values, s: s0}
+    T = transfer_matrix(A, B, C, D, E=E)
+    N = T.subs(values)
+    for i in range(C.shape[0]):
+        for j in range(B.shape[1]):
+            want = ref[i, j].element
+            G = transfer_function(A, B, C, D, E=E, input=j, output=i)
+            assert _tf_value(G.num, G.den, at) == want, (i, j, G.expr)
+            assert _tf_value(T.nums[i][j], T.den, at) == want, (i, j)
+            Gij = T[i, j]
+            assert _tf_value(Gij.num, Gij.den, at) == want, (i, j)
+            value = complex(QQ_I.to_sympy(want))
+            assert N[i, j](complex(s0)) == pytest.approx(value, rel=1e-9, abs=1e-12)
+
+
+@settings(max_examples=60, deadline=None)
+@given(bg_system())
+def test_random_bond_graph_entries_match_exact_reference(system):
+    check_against_reference(*system)
+
+
+@settings(max_examples=30, deadline=None)
+@given(bg_system(descriptor=True))
+def test_random_bond_graph_descriptor_systems_match_exact_reference(system):
+    check_against_reference(*system)
+
+
+@settings(max_examples=30, deadline=None)
+@given(bg_system(derivatives=True))
+def test_random_input_derivative_systems_match_exact_reference(system):
+    check_against_reference(*system)
+
+
+@settings(max_examples=20, deadline=None)
+@given(bg_system(), st.sampled_from(["laplace", "bareiss", "berkowitz"]))
+def test_random_bond_graph_entries_every_method(system, method):
+    A, B, C, D, _, values, s0 = system
+    ref = exact_reference(A, B, C, D, None, values, s0)
+    if ref is None:
+        return
+    G = transfer_function(A, B, C, D, input=0, output=0, method=method)
+    assert _tf_value(G.num, G.den, {**values, s: s0}) == ref[0, 0].element
+
+
+def test_bond_graph_entry_examples_by_hand():
+    """Two fixed cases of the strategies above, derived by hand.
+
+    RC ladder in nodal form (v1, v2): A = [[-1/(R1 C1) - 1/(R2 C1), 1/(R2 C1)],
+    [1/(R2 C2), -1/(R2 C2)]], B = [1/(R1 C1), 0], C = [0, 1]:
+    v2/V = 1/(R1 R2 C1 C2 s^2 + (R1 C1 + R1 C2 + R2 C2) s + 1).
+    Feedthrough meeting a reciprocal: x' = -x + u/a, y = a x + u: (s + 2)/(s + 1).
+    """
+    R1, R2, C1, C2, a_ = BG_PARAMS[:5]
+    A = sp.Matrix([[-1 / (R1 * C1) - 1 / (R2 * C1), 1 / (R2 * C1)],
+                   [1 / (R2 * C2), -1 / (R2 * C2)]])
+    G = transfer_function(A, [1 / (R1 * C1), 0], [[0, 1]], 0, normalize="leading-one-denominator")
+    assert G.expr == 1 / (R1 * R2 * C1 * C2 * s**2 + (R1 * C1 + R1 * C2 + R2 * C2) * s + 1)
+    a = BG_PARAMS[5]
+    assert same(transfer_function([[-1]], [[1 / a]], [[a]], [[1]]).expr, (s + 2) / (s + 1))
