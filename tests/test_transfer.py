@@ -796,3 +796,16 @@ def test_bond_graph_entry_examples_by_hand():
     assert G.expr == 1 / (R1 * R2 * C1 * C2 * s**2 + (R1 * C1 + R1 * C2 + R2 * C2) * s + 1)
     a = BG_PARAMS[5]
     assert same(transfer_function([[-1]], [[1 / a]], [[a]], [[1]]).expr, (s + 2) / (s + 1))
+
+
+def test_input_derivative_entries_by_hand_and_errors():
+    """x' = -x/tau + (1/tau + s) u, y = x + m s u:
+    X/U = (1/tau + s)/(s + 1/tau) = 1, so G = 1 + m s (improper)."""
+    tau, m = sp.symbols("tau m", positive=True)
+    G = transfer_function([[-1 / tau]], [[1 / tau + s]], [[1]], [[m * s]])
+    assert same(G.expr, 1 + m * s) and not G.is_proper
+    assert G.subs({"tau": 0.5, "m": 2.0})(3j) == pytest.approx(1 + 6j)
+    with pytest.raises(TransferFunctionError, match=r"B\[0, 0\]: expected a polynomial in s"):
+        transfer_function([[-1]], [[1 / s]], [[1]], None)
+    with pytest.raises(TransferFunctionError, match=r"C\[0, 0\]: entries must not contain"):
+        transfer_function([[-1]], [[1]], [[s]], None)
