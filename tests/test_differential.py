@@ -257,8 +257,8 @@ def test_compare_flags_small_disagreements():
 
 N_GRAPHS = 320
 CHUNK = 16
-MAX_ELEMENTS = 25
-TIME_LIMIT_S = 10.0
+MAX_ELEMENTS = 20      # the bench script goes to 25; 20 keeps this file near 40 s on 2 cores
+TIME_LIMIT_S = 10.0    # CPU seconds per graph (both insertion orders, both paths)
 
 
 def test_generator_covers_the_structures():
@@ -275,7 +275,7 @@ def test_generator_covers_the_structures():
     assert any(len(g.sources) >= 3 for g in graphs)
     assert any(len({el.kind for el in g.sources}) == 2 for g in graphs)
     assert any(g.meta.get("clash") for g in graphs)
-    assert max(len(g.elements) for g in graphs) >= 22
+    assert max(len(g.elements) for g in graphs) >= MAX_ELEMENTS - 2
 
     def count(pred):
         return sum(1 for g in graphs if pred(g))
