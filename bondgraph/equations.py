@@ -38,6 +38,9 @@ from typing import Mapping, Optional, Union, cast
 
 import networkx as nx
 import sympy
+from sympy.polys.matrices import DomainMatrix
+from sympy.polys.matrices.exceptions import DMNonInvertibleMatrixError
+from sympy.polys.polyerrors import CoercionFailed
 
 from .causality import AugmentedBondGraph, assign_causality, dependencies
 from .elements import Element, OnePort, TwoPort
@@ -448,6 +451,12 @@ class _Deriver:
         raise AssertionError(f"no rule for {el.label()}")  # pragma: no cover
 
     # ------------------------------------------------------------ solving
+    def _knowns(self) -> set:
+        """Symbols that are not parameters: states, inputs, their derivatives, unknowns, t."""
+        return (set(self.states) | set(self.input_syms) | set(self.xdot.values())
+                | set(self.udot.values()) | set(self.broken.values())
+                | set(self.stored_sym.values()) | {T_SYM})
+
     def _solve_blocks(self, unknowns: dict[sympy.Symbol, sympy.Expr], what: str) -> dict:
         """Solve u = expr(u, ...) for the unknowns, block by block in causal order."""
         if not unknowns:
@@ -480,17 +489,23 @@ class _Deriver:
                         )
                     M[i, j] = (1 if i == j else 0) - a
                 rhs[i] = ex.xreplace(zero)
+            singular = AlgebraicLoopError(
+                f"model {self.flat.name!r}: the {what} in {', '.join(u.name for u in block)} "
+                "is singular: the junction structure does not determine these variables (a "
+                "node whose potential is defined only up to a constant, such as a circuit "
+                "drawn with a 0-junction for every node including ground: remove the ground "
+                "node's junction; or storage elements joined so that they cannot be "
+                "independent)")
+            exact = _solve_linear_in_knowns(M, rhs, self._knowns())
+            if exact is not None:
+                if exact is _SINGULAR:
+                    raise singular
+                sol.update(zip(block, exact))
+                continue
             M = M.applyfunc(sympy.cancel)
             det = M[0, 0] if len(block) == 1 else sympy.cancel(M.det(method="bareiss"))
             if det == 0:
-                names = ", ".join(u.name for u in block)
-                raise AlgebraicLoopError(
-                    f"model {self.flat.name!r}: the {what} in {names} is singular: the "
-                    "junction structure does not determine these variables (a node whose "
-                    "potential is defined only up to a constant, such as a circuit drawn with "
-                    "a 0-junction for every node including ground: remove the ground node's "
-                    "junction; or storage elements joined so that they cannot be independent)"
-                )
+                raise singular
             if len(block) == 1:
                 sol[block[0]] = rhs[0] / det
             else:
@@ -627,6 +642,45 @@ class _Deriver:
             descriptor = (sympy.ImmutableMatrix(E.extract(keep, keep)),
                           tuple(F[i] for i in keep))
         return [states[i] for i in keep], [rhs[i] for i in keep], out_exprs, descriptor
+
+
+_SINGULAR: list = []
+
+
+def _solve_linear_in_knowns(M: sympy.Matrix, rhs: sympy.Matrix, knowns: set):
+    """Solve ``M z = rhs`` exactly when ``M`` holds parameters only and ``rhs`` is
+    linear in the knowns: the coefficients are solved over the field of rational
+    functions of the parameters (reduced fractions, no nesting), so that
+    ``z = X k + x0`` stays compact.  None when that form does not apply;
+    ``_SINGULAR`` when ``M`` is singular."""
+    n = M.rows
+    if any(M[i, j].free_symbols & knowns for i in range(n) for j in range(n)):
+        return None
+    ks = sorted(set().union(*(r.free_symbols for r in rhs)) & knowns, key=sympy.default_sort_key)
+    R = sympy.zeros(n, len(ks) + 1)
+    zero = {k: 0 for k in ks}
+    for i in range(n):
+        r = rhs[i]
+        for j, k in enumerate(ks):
+            c = sympy.diff(r, k)
+            if c.free_symbols & knowns:
+                return None
+            R[i, j] = c
+        R[i, len(ks)] = r.xreplace(zero)
+    try:
+        full = DomainMatrix.from_Matrix(M.row_join(R))
+    except (CoercionFailed, NotImplementedError, ValueError):
+        return None
+    if not full.domain.is_Exact:
+        return None
+    full = full.to_field()
+    A, B = full[:, :n], full[:, n:]
+    try:
+        X = A.lu_solve(B).to_Matrix()
+    except DMNonInvertibleMatrixError:
+        return _SINGULAR
+    return [sympy.Add(*(X[i, j] * k for j, k in enumerate(ks))) + X[i, len(ks)]
+            for i in range(n)]
 
 
 def _subs(expr: sympy.Expr, var: LawVariable, value: sympy.Expr) -> sympy.Expr:

@@ -32,6 +32,9 @@ from typing import Optional, Sequence
 
 import numpy as np
 import sympy
+from sympy.polys.matrices import DomainMatrix
+from sympy.polys.matrices.exceptions import DMNonInvertibleMatrixError
+from sympy.polys.polyerrors import CoercionFailed
 
 from .signals import t as T_SYM
 
@@ -135,13 +138,28 @@ def state_combination(flow: sympy.Expr, states: Sequence[sympy.Symbol],
             break
     if len(chosen) < len(support):
         return None
-    A = sympy.Matrix([[rows[j].get(cols[i], 0) for j in support] for i in chosen])
-    b = sympy.Matrix([target.get(cols[i], 0) for i in chosen])
+    # exact arithmetic over the field of rational functions of the parameters:
+    # reduced fractions, and the identity checked on every column, not sampled
+    used = sorted({col_index[v] for j in support for v in rows[j]} |
+                  {col_index[v] for v in target})
+    table = sympy.Matrix([[rows[j].get(cols[i], 0) for i in used] for j in support] +
+                         [[target.get(cols[i], 0) for i in used]])
     try:
-        coeffs = A.LUsolve(b)
-    except (ValueError, ZeroDivisionError):
+        dm = DomainMatrix.from_Matrix(table)
+    except (CoercionFailed, NotImplementedError, ValueError):
         return None
-    coeffs = [sympy.cancel(x) for x in coeffs]
-    if sympy.cancel(sympy.Add(*(cj * rhs[j] for cj, j in zip(coeffs, support))) - flow) != 0:
+    if not dm.domain.is_Exact:
         return None
+    dm = dm.to_field()
+    k = len(support)
+    rows_m, goal = dm[:k, :], dm[k:, :]
+    pick = [used.index(i) for i in chosen]
+    try:
+        coeff = rows_m.extract(list(range(k)), pick).transpose().lu_solve(
+            goal.extract([0], pick).transpose())
+    except DMNonInvertibleMatrixError:
+        return None
+    if coeff.transpose().matmul(rows_m) != goal:
+        return None
+    coeffs = [coeff.to_Matrix()[i, 0] for i in range(k)]
     return sympy.Add(*(cj * states[j] for cj, j in zip(coeffs, support)))
