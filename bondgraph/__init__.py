@@ -32,7 +32,8 @@ from .model import Model
 from .signals import Signal, displacement, e, effort, f, flow, momentum, p, q, t
 from .statespace import SymbolicStateSpace
 from .modelfile import ModelDefinition, ModelFileError, load_model
-from .numeric import (BatchStateSpace, NumericModel, NumericStateSpace, ParameterValueError,
+from .numeric import (BatchStateSpace, ImproperPlantError, NumericModel, NumericStateSpace,
+                      ParameterValueError,
                       SimulationResult, compile_plant, numeric_plant, simulate,
                       to_nonlinear_iosys)
 from .export import ExportError
@@ -53,5 +54,6 @@ __all__ = [
     "ModelDefinition", "ModelFileError", "load_model",
     "compile_plant", "numeric_plant", "NumericModel", "NumericStateSpace", "BatchStateSpace",
     "simulate", "SimulationResult", "to_nonlinear_iosys", "ParameterValueError",
+    "ImproperPlantError",
     "ExportError", "draw",
 ]

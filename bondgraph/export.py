@@ -257,6 +257,20 @@ def _mat_dict(plant: NumericStateSpace) -> dict[str, Any]:
     }
 
 
+def _check_exportable(plant: NumericStateSpace) -> None:
+    """A, B, C, D must be the whole plant: refuse improper or state-shifted plants."""
+    if not plant.is_proper:
+        raise ExportError(
+            f"plant {plant.name!r} is improper (an output depends on an input derivative, "
+            "D_derivatives is nonzero): A, B, C, D cannot hold it; export the proper outputs "
+            "only, or write the transfer functions (model.transfer_function(...))")
+    if any(np.any(S != 0.0) for S in plant.state_shift):
+        raise ExportError(
+            f"plant {plant.name!r} uses shifted states z = x - S u (its derivation needs an "
+            "input derivative): its A, B, C, D are not in the model's states "
+            f"{', '.join(plant.state_names)}; export is refused rather than mislabelled")
+
+
 def export_mat(plant: NumericStateSpace, path: PathLike) -> None:
     """Write a MATLAB/Octave ``.mat`` file (see the module docstring for its variables).
 
@@ -285,6 +299,7 @@ def export_mat(plant: NumericStateSpace, path: PathLike) -> None:
     >>> m["C"], str(m["model_name"][0])
     (array([[2.]]), 'lag')
     """
+    _check_exportable(plant)
     import scipy.io
 
     data = _mat_dict(_check_plant(plant))
@@ -322,6 +337,7 @@ def export_npz(plant: NumericStateSpace, path: PathLike) -> None:
     ...         z["A"], z["state_names"], z["parameter_values"]
     (array([[-1.]]), array(['x'], dtype='<U1'), array([1.]))
     """
+    _check_exportable(plant)
     p = _check_plant(plant)
     pnames = list(p.parameters)
     # values typed Any: numpy's stub would match ``**data`` to ``allow_pickle: bool`` too
@@ -405,6 +421,7 @@ def export_json(plant: NumericStateSpace, path: PathLike) -> None:
     >>> doc["format"], doc["model"], doc["A"], doc["parameters"]
     ('bondgraph-statespace', 'lag', [[-1.0]], {'tau': 1.0})
     """
+    _check_exportable(plant)
     doc = to_json_dict(plant)
     try:
         text = _json_text(doc)

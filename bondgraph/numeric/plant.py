@@ -228,6 +228,36 @@ class NumericStateSpace(SignalCounts):
         cols = range(self.ninputs) if input is None else [self._index(input, self.input_names, "input")]
         return G[list(rows), list(cols)]
 
+    def minimal(self, *, tol: Optional[float] = None) -> "NumericStateSpace":
+        """A minimal realization: uncontrollable and unobservable states removed.
+
+        Uses python-control's ``minreal`` (SLICOT ``TB01PD`` through slycot).  The
+        states of the result are combinations of the model's states, named
+        ``xm_1, xm_2, ...``; inputs and outputs keep their names.
+
+        Parameters
+        ----------
+        tol : float, optional
+            Rank tolerance (SLICOT's default when None).
+
+        Examples
+        --------
+        >>> # x2 is driven by nothing and seen by nothing: one state remains
+        >>> ss = NumericStateSpace([[-1.0, 0.0], [0.0, -3.0]], [[1.0], [0.0]], [[2.0, 0.0]],
+        ...                        [[0.0]], ("x1", "x2"), ("u",), ("y",))
+        >>> m = ss.minimal()
+        >>> m.state_names, round(float(m.to_control().dcgain()), 12)
+        (('xm_1',), 2.0)
+        """
+        import control
+
+        self._require_proper("a minimal state-space realization")
+        red = control.minreal(control.ss(self.A, self.B, self.C, self.D), tol=tol, verbose=False)
+        n = red.nstates
+        return NumericStateSpace(red.A, red.B, red.C, red.D,
+                                 tuple(f"xm_{i + 1}" for i in range(n)), self.input_names,
+                                 self.output_names, self.parameters, self.name)
+
     def to_scipy(self) -> scipy.signal.StateSpace:
         """The ``scipy.signal.StateSpace`` system (continuous time, no names)."""
         import scipy.signal
