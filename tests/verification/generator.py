@@ -645,7 +645,10 @@ def _numeric_at(plant, s_list, in_names, out_names):
             X = np.linalg.solve(M, Bm.astype(complex))
             cond = np.linalg.cond(M)
             H = C @ X + D
-            Hb = 8 * (n + 2) * _EPS * (cond * np.abs(C) @ np.abs(X) + np.abs(D))
+            # norm-wise: the rounding error of X's column is relative to its norm, so an
+            # exact zero may come out as ~eps*cond*|C_i|*|X_j| (never entrywise |C||X|)
+            Hb = 8 * (n + 2) * _EPS * (cond * np.outer(np.linalg.norm(C, axis=1),
+                                                       np.linalg.norm(X, axis=0)) + np.abs(D))
         else:
             H = D.astype(complex)
             Hb = 4 * _EPS * np.abs(D)
