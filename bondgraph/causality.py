@@ -156,12 +156,18 @@ class AugmentedBondGraph:
         return "\n".join(lines)
 
 
-def assign_causality(graph: Union[BondGraph, FlatGraph]) -> AugmentedBondGraph:
+def assign_causality(graph: Union[BondGraph, FlatGraph], *,
+                     prefer_derivative: frozenset = frozenset()) -> AugmentedBondGraph:
     """Assign causality to every bond by SCAP.
 
     Parameters
     ----------
     graph : BondGraph or FlatGraph
+    prefer_derivative : set of str, optional
+        Storage elements to try in derivative causality first (used by
+        :func:`bondgraph.derive` when an integral choice leaves a singular
+        algebraic loop: a storage element whose effort or flow the junction
+        structure fixes algebraically).
 
     Returns
     -------
@@ -185,7 +191,7 @@ def assign_causality(graph: Union[BondGraph, FlatGraph]) -> AugmentedBondGraph:
     (('C',), ['1: |i -> v', '2: v -> R|', '3: |v -> C'])
     """
     flat = graph if isinstance(graph, FlatGraph) else flatten(graph)
-    return _Scap(flat).run()
+    return _Scap(flat, frozenset(prefer_derivative)).run()
 
 
 class _Scap:
@@ -202,8 +208,9 @@ class _Scap:
     (together with the storage elements before it) integral.
     """
 
-    def __init__(self, flat: FlatGraph) -> None:
+    def __init__(self, flat: FlatGraph, prefer_derivative: frozenset = frozenset()) -> None:
         self.flat = flat
+        self.prefer_derivative = prefer_derivative
         self.bonds: tuple[Bond, ...] = flat.bonds
         nb = len(self.bonds)
         self.head_gets_effort: list = [None] * nb
@@ -359,7 +366,10 @@ class _Scap:
         for el in by_name:
             if el.kind in _STORAGE:
                 (k,) = flat.incidence[el.name]
-                out.append((k, el.name, el.kind == "I", f"integral causality of {el.label()}"))
+                if el.name in self.prefer_derivative:
+                    out.append((k, el.name, el.kind != "I", f"derivative causality of {el.label()}"))
+                else:
+                    out.append((k, el.name, el.kind == "I", f"integral causality of {el.label()}"))
         for el in by_name:
             if el.kind == "R":
                 (k,) = flat.incidence[el.name]

@@ -43,6 +43,7 @@ from sympy.polys.matrices.exceptions import DMNonInvertibleMatrixError
 from sympy.polys.polyerrors import CoercionFailed
 
 from .causality import AugmentedBondGraph, assign_causality, dependencies
+from .errors import CausalityError
 from .elements import Element, OnePort, TwoPort
 from .errors import AlgebraicLoopError, BondGraphWarning, NameClashError, OutputError
 from .flatten import FlatGraph
@@ -94,10 +95,36 @@ def derive(graph: Union[BondGraph, AugmentedBondGraph], outputs: OutputSpec = No
     >>> model.rhs
     (V - Ra*p_La/La - K*p_J/J, K*p_La/La - b*p_J/J, p_J/J)
     """
-    aug = graph if isinstance(graph, AugmentedBondGraph) else assign_causality(graph)
     outputs = _check_outputs(outputs)
+    if isinstance(graph, AugmentedBondGraph):
+        _warn_reversed(graph.flat)
+        return _Deriver(graph, outputs).run()
+    aug = assign_causality(graph)
     _warn_reversed(aug.flat)
-    return _Deriver(aug, outputs).run()
+    # An integral storage element whose effort (C) or flow (I) the junction structure
+    # fixes algebraically leaves a singular loop: put such elements in derivative
+    # causality, one at a time, before calling the graph ill-posed.
+    forced: frozenset = frozenset()
+    first: Optional[_SingularLoop] = None
+    for _ in range(len(aug.integral) + 1):
+        try:
+            return _Deriver(aug, outputs).run()
+        except _SingularLoop as err:
+            first = first or err
+            for name in err.storage:
+                if name in forced:
+                    continue
+                try:
+                    trial = assign_causality(aug.flat, prefer_derivative=forced | {name})
+                except CausalityError:
+                    continue
+                if name in trial.derivative:
+                    forced, aug = forced | {name}, trial
+                    break
+            else:
+                break
+    assert first is not None
+    raise first
 
 
 def _warn_reversed(flat: FlatGraph) -> None:
@@ -489,13 +516,17 @@ class _Deriver:
                         )
                     M[i, j] = (1 if i == j else 0) - a
                 rhs[i] = ex.xreplace(zero)
-            singular = AlgebraicLoopError(
+            singular = _SingularLoop(
                 f"model {self.flat.name!r}: the {what} in {', '.join(u.name for u in block)} "
                 "is singular: the junction structure does not determine these variables (a "
                 "node whose potential is defined only up to a constant, such as a circuit "
                 "drawn with a 0-junction for every node including ground: remove the ground "
                 "node's junction; or storage elements joined so that they cannot be "
                 "independent)")
+            singular.storage = tuple(sorted(
+                n for n, x in self.state_of.items()
+                if any(x in (eq.free_symbols if hasattr(eq, "free_symbols") else ())
+                       for eq in list(rhs) + list(M))))
             exact = _solve_linear_in_knowns(M, rhs, self._knowns())
             if exact is not None:
                 if exact is _SINGULAR:
@@ -642,6 +673,12 @@ class _Deriver:
             descriptor = (sympy.ImmutableMatrix(E.extract(keep, keep)),
                           tuple(F[i] for i in keep))
         return [states[i] for i in keep], [rhs[i] for i in keep], out_exprs, descriptor
+
+
+class _SingularLoop(AlgebraicLoopError):
+    """A singular loop block; ``storage`` names the integral storage elements in it."""
+
+    storage: tuple[str, ...] = ()
 
 
 _SINGULAR: list = []

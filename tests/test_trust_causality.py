@@ -138,3 +138,24 @@ def test_singular_loop_is_refused_not_nan():
         g.connect(t, h)
     with pytest.raises(bg.BondGraphError):
         bg.derive(g, outputs={"e": bg.effort("a")})
+
+
+def test_storage_fixed_algebraically_goes_to_derivative_causality():
+    """A C whose effort the junction structure fixes at zero (seed 421 of the
+    differential run).  By hand: e_C3 = 0, so the flows of o5 and o3 vanish and
+    o2 carries the source flow u; e_z3 = R3 u and e_z1 = -R3 u, hence
+    y2 = -3 * momentum(z1) = 3 R3 u / s.  SCAP's integral choice for C3 leaves a
+    singular loop; derive retries C3 in derivative causality."""
+    g = bg.BondGraph("g421")
+    g.add(bg.Zero("z1"), bg.Zero("z2"), bg.Zero("z3"), bg.One("o2"), bg.R("R3"), bg.One("o3"),
+          bg.One("o4"), bg.One("o5"), bg.C("C3"), bg.One("o6"), bg.Sf("F1"))
+    for t, h in [("z3", "o2"), ("R3", "o2"), ("z2", "o3"), ("o3", "z3"), ("o4", "z1"),
+                 ("o4", "z3"), ("z3", "o5"), ("o5", "z2"), ("o5", "C3"), ("z1", "o6"),
+                 ("F1", "o6")]:
+        g.connect(t, h)
+    with pytest.warns(bg.BondGraphWarning):
+        m = bg.derive(g, outputs={"y2": -3 * bg.momentum("z1")})
+    assert m.augmented.derivative == ("C3",)
+    G = m.transfer_function("F1", "y2")
+    R3 = sp.Symbol("R3", positive=True)
+    assert sp.simplify(G.expr - 3 * R3 / G.s) == 0
