@@ -36,19 +36,16 @@ from __future__ import annotations
 import warnings
 from typing import Mapping, Optional, Union, cast
 
-import networkx as nx
 import sympy
-from sympy.polys.matrices import DomainMatrix
-from sympy.polys.matrices.exceptions import DMNonInvertibleMatrixError
-from sympy.polys.polyerrors import CoercionFailed
 
 from .causality import AugmentedBondGraph, assign_causality, dependencies
-from .errors import CausalityError
 from .elements import Element, OnePort, TwoPort
-from .errors import AlgebraicLoopError, BondGraphWarning, NameClashError, OutputError
+from .errors import (AlgebraicLoopError, BondGraphWarning, CausalityError, NameClashError,
+                     OutputError)
 from .flatten import FlatGraph
 from .graph import BondGraph
 from .integrators import state_combination
+from .loops import SingularLoopError, solve_blocks
 from .model import Model
 from .signals import LawVariable, Signal, e as E_VAR, f as F_VAR, p as P_VAR, q as Q_VAR, t as T_SYM
 
@@ -105,11 +102,11 @@ def derive(graph: Union[BondGraph, AugmentedBondGraph], outputs: OutputSpec = No
     # fixes algebraically leaves a singular loop: put such elements in derivative
     # causality, one at a time, before calling the graph ill-posed.
     forced: frozenset = frozenset()
-    first: Optional[_SingularLoop] = None
+    first: Optional[SingularLoopError] = None
     for _ in range(len(aug.integral) + 1):
         try:
             return _Deriver(aug, outputs).run()
-        except _SingularLoop as err:
+        except SingularLoopError as err:
             first = first or err
             for name in err.storage:
                 if name in forced:
@@ -485,65 +482,9 @@ class _Deriver:
                 | set(self.stored_sym.values()) | {T_SYM})
 
     def _solve_blocks(self, unknowns: dict[sympy.Symbol, sympy.Expr], what: str) -> dict:
-        """Solve u = expr(u, ...) for the unknowns, block by block in causal order."""
-        if not unknowns:
-            return {}
-        dg = nx.DiGraph()
-        dg.add_nodes_from(unknowns)
-        for u, ex in unknowns.items():
-            for s in ex.free_symbols:
-                if s in unknowns:
-                    dg.add_edge(s, u)
-        sol: dict[sympy.Symbol, sympy.Expr] = {}
-        cond = nx.condensation(dg)
-        for c in nx.topological_sort(cond):
-            block = sorted(cond.nodes[c]["members"], key=sympy.default_sort_key)
-            eqs = [unknowns[u].xreplace(sol) for u in block]
-            if len(block) == 1 and block[0] not in eqs[0].free_symbols:
-                sol[block[0]] = eqs[0]
-                continue
-            zero = {u: 0 for u in block}
-            M = sympy.zeros(len(block))
-            rhs = sympy.zeros(len(block), 1)
-            for i, (u, ex) in enumerate(zip(block, eqs)):
-                for j, w in enumerate(block):
-                    a = sympy.diff(ex, w)
-                    if a.free_symbols & set(block):
-                        raise AlgebraicLoopError(
-                            f"model {self.flat.name!r}: the {what} in {', '.join(map(str, block))} "
-                            "is nonlinear in its unknowns; give an explicit (inverse) law for the "
-                            "R or storage element involved"
-                        )
-                    M[i, j] = (1 if i == j else 0) - a
-                rhs[i] = ex.xreplace(zero)
-            singular = _SingularLoop(
-                f"model {self.flat.name!r}: the {what} in {', '.join(u.name for u in block)} "
-                "is singular: the junction structure does not determine these variables (a "
-                "node whose potential is defined only up to a constant, such as a circuit "
-                "drawn with a 0-junction for every node including ground: remove the ground "
-                "node's junction; or storage elements joined so that they cannot be "
-                "independent)")
-            singular.storage = tuple(sorted(
-                n for n, x in self.state_of.items()
-                if any(x in (eq.free_symbols if hasattr(eq, "free_symbols") else ())
-                       for eq in list(rhs) + list(M))))
-            exact = _solve_linear_in_knowns(M, rhs, self._knowns())
-            if exact is not None:
-                if exact is _SINGULAR:
-                    raise singular
-                sol.update(zip(block, exact))
-                continue
-            M = M.applyfunc(sympy.cancel)
-            det = M[0, 0] if len(block) == 1 else sympy.cancel(M.det(method="bareiss"))
-            if det == 0:
-                raise singular
-            if len(block) == 1:
-                sol[block[0]] = rhs[0] / det
-            else:
-                x = M.LUsolve(rhs)
-                for u, val in zip(block, x):
-                    sol[u] = val
-        return sol
+        """Solve u = expr(u, ...) for the unknowns (see :func:`bondgraph.loops.solve_blocks`)."""
+        return solve_blocks(unknowns, knowns=self._knowns(), what=what, model=self.flat.name,
+                            states=self.state_of)
 
     # ------------------------------------------------------------ main
     def run(self) -> Model:
@@ -673,51 +614,6 @@ class _Deriver:
             descriptor = (sympy.ImmutableMatrix(E.extract(keep, keep)),
                           tuple(F[i] for i in keep))
         return [states[i] for i in keep], [rhs[i] for i in keep], out_exprs, descriptor
-
-
-class _SingularLoop(AlgebraicLoopError):
-    """A singular loop block; ``storage`` names the integral storage elements in it."""
-
-    storage: tuple[str, ...] = ()
-
-
-_SINGULAR: list = []
-
-
-def _solve_linear_in_knowns(M: sympy.Matrix, rhs: sympy.Matrix, knowns: set):
-    """Solve ``M z = rhs`` exactly when ``M`` holds parameters only and ``rhs`` is
-    linear in the knowns: the coefficients are solved over the field of rational
-    functions of the parameters (reduced fractions, no nesting), so that
-    ``z = X k + x0`` stays compact.  None when that form does not apply;
-    ``_SINGULAR`` when ``M`` is singular."""
-    n = M.rows
-    if any(M[i, j].free_symbols & knowns for i in range(n) for j in range(n)):
-        return None
-    ks = sorted(set().union(*(r.free_symbols for r in rhs)) & knowns, key=sympy.default_sort_key)
-    R = sympy.zeros(n, len(ks) + 1)
-    zero = {k: 0 for k in ks}
-    for i in range(n):
-        r = rhs[i]
-        for j, k in enumerate(ks):
-            c = sympy.diff(r, k)
-            if c.free_symbols & knowns:
-                return None
-            R[i, j] = c
-        R[i, len(ks)] = r.xreplace(zero)
-    try:
-        full = DomainMatrix.from_Matrix(M.row_join(R))
-    except (CoercionFailed, NotImplementedError, ValueError):
-        return None
-    if not full.domain.is_Exact:
-        return None
-    full = full.to_field()
-    A, B = full[:, :n], full[:, n:]
-    try:
-        X = A.lu_solve(B).to_Matrix()
-    except DMNonInvertibleMatrixError:
-        return _SINGULAR
-    return [sympy.Add(*(X[i, j] * k for j, k in enumerate(ks))) + X[i, len(ks)]
-            for i in range(n)]
 
 
 def _subs(expr: sympy.Expr, var: LawVariable, value: sympy.Expr) -> sympy.Expr:
