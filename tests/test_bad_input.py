@@ -185,3 +185,16 @@ def test_degenerate_values_refused_at_construction(make, culprit):
 
 def test_negative_values_allowed_for_active_elements():
     assert bg.R("b", -2).parameter == -2
+
+
+def test_every_package_error_is_a_bondgraph_error():
+    """Errors raised on purpose by the transfer-function and identification layers
+    derive from BondGraphError too (they escaped the hierarchy before)."""
+    from bondgraph.identification import IdentificationError
+    from bondgraph.tf import transfer_function
+    from bondgraph.tf.errors import TransferFunctionError, UnknownSignalError
+
+    for cls in (TransferFunctionError, UnknownSignalError, IdentificationError):
+        assert issubclass(cls, bg.BondGraphError) and issubclass(cls, ValueError)
+    with pytest.raises(bg.BondGraphError, match="nope"):
+        transfer_function(A=[[-1]], B=[[1]], C=[[1]], D=[[0]], input="nope")

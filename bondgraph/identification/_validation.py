@@ -7,10 +7,12 @@ import numbers
 import numpy as np
 from numpy.typing import ArrayLike, DTypeLike, NDArray
 
+from ..errors import BondGraphError
+
 __all__ = ["IdentificationError"]
 
 
-class IdentificationError(ValueError):
+class IdentificationError(BondGraphError, ValueError):
     """Invalid data or options passed to a system-identification routine.
 
     Subclass of :class:`ValueError`, so ``except ValueError`` also catches it.

@@ -1,7 +1,7 @@
 """Exceptions raised by :mod:`bondgraph.tf`.
 
 Every exception derives from :class:`TransferFunctionError`, itself a
-``ValueError``; messages name the argument at fault and say what was expected
+:class:`bondgraph.BondGraphError` and a ``ValueError``; messages name the argument at fault and say what was expected
 and what was given.
 
 Examples
@@ -12,6 +12,8 @@ True
 """
 
 from __future__ import annotations
+
+from ..errors import BondGraphError
 
 __all__ = [
     "TransferFunctionError",
@@ -25,7 +27,7 @@ __all__ = [
 ]
 
 
-class TransferFunctionError(ValueError):
+class TransferFunctionError(BondGraphError, ValueError):
     """Base class of the errors raised by :mod:`bondgraph.tf`."""
 
 
