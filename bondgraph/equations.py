@@ -45,7 +45,7 @@ from .errors import (AlgebraicLoopError, BondGraphWarning, CausalityError, NameC
 from .flatten import FlatGraph
 from .graph import BondGraph
 from .integrators import state_combination
-from .loops import SingularLoopError, solve_blocks
+from .loops import SingularLoopError, compact_linear, solve_blocks
 from .model import Model
 from .signals import LawVariable, Signal, e as E_VAR, f as F_VAR, p as P_VAR, q as Q_VAR, t as T_SYM
 
@@ -567,6 +567,11 @@ class _Deriver:
         out_exprs = [o.xreplace(xsol) if o.free_symbols & xd_syms else o for o in out_exprs]
         states, rhs, out_exprs, descriptor = self._reuse_states(
             states, list(rhs), out_exprs, descriptor, n_storage)
+        if self.broken:
+            # loop solutions were substituted: one reduced fraction per coefficient
+            knowns = self._knowns()
+            rhs = compact_linear(list(rhs), knowns)
+            out_exprs = compact_linear(list(out_exprs), knowns)
         self._check_parameter_names(list(rhs) + list(out_exprs))
         inputs = tuple(self.input_syms)
         udots = tuple(self.udot[u] for u in inputs

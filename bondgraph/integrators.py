@@ -10,9 +10,15 @@ states: the displacement is measured from the configuration where those
 states are zero (for a mass on a spring, from the spring's free length).
 
 The combination is found numerically at random parameter values (a least
-squares solve that gives its support) and then solved and verified
-symbolically on that support, so a combination is used only when it holds
-exactly for every parameter value.
+squares solve that gives its support).  Constant coefficients (``1``, ``-1``,
+the usual case) are then solved exactly at random rational parameter values
+and the identity is checked exactly, column by column, at five such points
+(Schwartz-Zippel: a nonzero rational function of the parameters vanishes at
+such a point with probability below its degree over 10**5).  Coefficients
+that depend on the parameters (a transformer modulus) are solved and checked
+symbolically over the field of rational functions, for expressions of modest
+size; otherwise the integrator stays (``NumericStateSpace.minimal`` removes
+it numerically).
 
 Examples
 --------
@@ -32,10 +38,9 @@ from typing import Optional, Sequence
 
 import numpy as np
 import sympy
-from sympy.polys.matrices import DomainMatrix
 from sympy.polys.matrices.exceptions import DMNonInvertibleMatrixError
-from sympy.polys.polyerrors import CoercionFailed
 
+from .loops import field_matrix
 from .signals import t as T_SYM
 
 __all__ = ["state_combination"]
@@ -138,22 +143,76 @@ def state_combination(flow: sympy.Expr, states: Sequence[sympy.Symbol],
             break
     if len(chosen) < len(support):
         return None
-    # exact arithmetic over the field of rational functions of the parameters:
-    # reduced fractions, and the identity checked on every column, not sampled
     used = sorted({col_index[v] for j in support for v in rows[j]} |
                   {col_index[v] for v in target})
-    table = sympy.Matrix([[rows[j].get(cols[i], 0) for i in used] for j in support] +
-                         [[target.get(cols[i], 0) for i in used]])
-    try:
-        dm = DomainMatrix.from_Matrix(table)
-    except (CoercionFailed, NotImplementedError, ValueError):
-        return None
-    if not dm.domain.is_Exact:
-        return None
-    dm = dm.to_field()
-    k = len(support)
-    rows_m, goal = dm[:k, :], dm[k:, :]
     pick = [used.index(i) for i in chosen]
+    table = [[rows[j].get(cols[i], 0) for i in used] for j in support] + \
+        [[target.get(cols[i], 0) for i in used]]
+    constant = _constant_combination(table, pick, sorted(params, key=sympy.default_sort_key), rng)
+    coeffs = constant if constant is not None else _symbolic_combination(table, pick)
+    if coeffs is None:
+        return None
+    return sympy.Add(*(cj * states[j] for cj, j in zip(coeffs, support)))
+
+
+#: Above this size (characters of the coefficients) no symbolic solve is tried.
+MAX_SYMBOLIC_SIZE = 4000
+
+
+def _exact_points(params: list, rng: np.random.Generator, count: int) -> list[dict]:
+    """Random rational parameter values (numerators up to 10**6): exact test points."""
+    out = []
+    for _ in range(count):
+        out.append({p: sympy.Rational(int(rng.integers(10**5, 10**6)), int(rng.integers(10**5, 10**6)))
+                    for p in params})
+    return out
+
+
+def _constant_combination(table: list, pick: list[int], params: list,
+                          rng: np.random.Generator) -> Optional[list]:
+    """The coefficients when they are the same rational numbers at every parameter value.
+
+    Solved exactly at three random rational points; accepted when they agree and
+    the identity holds, column by column, at five points (a rational function
+    that vanishes at random points of this height is zero but with probability
+    below degree/10**5 per point: Schwartz-Zippel).
+    """
+    k = len(table) - 1
+    found = None
+    for n, point in enumerate(_exact_points(params, rng, 5)):
+        try:
+            num = [[sympy.Integer(c) if isinstance(c, int) else c.xreplace(point) for c in row]
+                   for row in table]
+        except (ZeroDivisionError, TypeError):
+            return None
+        if any(not x.is_Rational for row in num for x in row):
+            return None
+        if n < 3:
+            A = sympy.Matrix([[num[j][i] for j in range(k)] for i in pick])
+            b = sympy.Matrix([num[k][i] for i in pick])
+            if A.det() == 0:
+                return None
+            c = list(A.LUsolve(b))
+            if found is None:
+                found = c
+            elif c != found:
+                return None
+        assert found is not None
+        if any(sum(found[j] * num[j][i] for j in range(k)) != num[k][i]
+               for i in range(len(num[0]))):
+            return None
+    return found
+
+
+def _symbolic_combination(table: list, pick: list[int]) -> Optional[list]:
+    """Coefficients that depend on the parameters: solved over their rational functions."""
+    if sum(len(str(c)) for row in table for c in row) > MAX_SYMBOLIC_SIZE:
+        return None
+    dm = field_matrix(sympy.Matrix(table))
+    if dm is None:
+        return None
+    k = len(table) - 1
+    rows_m, goal = dm[:k, :], dm[k:, :]
     try:
         coeff = rows_m.extract(list(range(k)), pick).transpose().lu_solve(
             goal.extract([0], pick).transpose())
@@ -161,5 +220,4 @@ def state_combination(flow: sympy.Expr, states: Sequence[sympy.Symbol],
         return None
     if coeff.transpose().matmul(rows_m) != goal:
         return None
-    coeffs = [coeff.to_Matrix()[i, 0] for i in range(k)]
-    return sympy.Add(*(cj * states[j] for cj, j in zip(coeffs, support)))
+    return [coeff.to_Matrix()[i, 0] for i in range(k)]

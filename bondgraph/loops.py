@@ -13,7 +13,7 @@ sympy's ``LUsolve``.
 
 from __future__ import annotations
 
-from typing import Mapping
+from typing import Mapping, Optional
 
 import networkx as nx
 import sympy
@@ -23,7 +23,7 @@ from sympy.polys.polyerrors import CoercionFailed
 
 from .errors import AlgebraicLoopError
 
-__all__ = ["SingularLoopError", "solve_blocks"]
+__all__ = ["SingularLoopError", "compact_linear", "field_matrix", "solve_blocks"]
 
 
 class SingularLoopError(AlgebraicLoopError):
@@ -33,6 +33,23 @@ class SingularLoopError(AlgebraicLoopError):
 
 
 _SINGULAR: list = []
+
+
+def field_matrix(M: sympy.Matrix) -> Optional[DomainMatrix]:
+    """``M`` over the field of rational functions of its symbols (QQ), or None.
+
+    The domain is built directly (``QQ.frac_field``) and each entry converted by
+    field arithmetic: sympy's automatic domain construction runs ``together``
+    over every entry and is much slower on large loop solutions.  Floats are
+    refused (None): exact arithmetic only.
+    """
+    syms = sorted(M.free_symbols, key=sympy.default_sort_key)
+    dom = sympy.QQ.frac_field(*syms) if syms else sympy.QQ
+    try:
+        rows = [[dom.from_sympy(M[i, j]) for j in range(M.cols)] for i in range(M.rows)]
+    except (CoercionFailed, NotImplementedError, ValueError, ZeroDivisionError):
+        return None
+    return DomainMatrix(rows, (M.rows, M.cols), dom)
 
 
 def _solve_linear_in_knowns(M: sympy.Matrix, rhs: sympy.Matrix, knowns: set):
@@ -55,13 +72,9 @@ def _solve_linear_in_knowns(M: sympy.Matrix, rhs: sympy.Matrix, knowns: set):
                 return None
             R[i, j] = c
         R[i, len(ks)] = r.xreplace(zero)
-    try:
-        full = DomainMatrix.from_Matrix(M.row_join(R))
-    except (CoercionFailed, NotImplementedError, ValueError):
+    full = field_matrix(M.row_join(R))
+    if full is None:
         return None
-    if not full.domain.is_Exact:
-        return None
-    full = full.to_field()
     A, B = full[:, :n], full[:, n:]
     try:
         X = A.lu_solve(B).to_Matrix()
@@ -164,3 +177,47 @@ def solve_blocks(unknowns: dict[sympy.Symbol, sympy.Expr], *, knowns: set, what:
             for u, val in zip(block, x):
                 sol[u] = val
     return sol
+
+
+def compact_linear(exprs: list, knowns: set) -> list:
+    """Each expression linear in the knowns rewritten ``sum_k c_k k + c_0`` with every
+    coefficient one reduced fraction of the parameters (nonlinear ones unchanged).
+
+    After loop solutions are substituted, a coefficient is a sum of products of
+    fractions; reducing it in sympy's field of rational functions (sparse
+    polynomial arithmetic) is far cheaper than ``together``/``cancel`` on the
+    expression tree, and keeps what follows (state space, transfer functions)
+    small.
+
+    Examples
+    --------
+    >>> import sympy
+    >>> x, a, b = sympy.symbols("x a b")
+    >>> compact_linear([x/(a*b) + x/b - 2], {x})
+    [-2 + x*(a + 1)/(a*b)]
+    """
+    from sympy.polys.fields import field
+
+    params: set = set()
+    for ex in exprs:
+        params |= ex.free_symbols - knowns
+    if not params:
+        return list(exprs)
+    K, *_ = field(sorted(params, key=sympy.default_sort_key), sympy.QQ)
+    out = []
+    for ex in exprs:
+        ks = sorted(ex.free_symbols & knowns, key=sympy.default_sort_key)
+        parts = []
+        try:
+            for k in ks:
+                c = sympy.diff(ex, k)
+                if c.free_symbols & knowns:
+                    raise ValueError("nonlinear")
+                parts.append(K.from_expr(c).as_expr() * k)
+            const = ex.xreplace({k: 0 for k in ks})
+            parts.append(K.from_expr(const).as_expr() if const != 0 else sympy.Integer(0))
+        except (ValueError, CoercionFailed, ZeroDivisionError):
+            out.append(ex)
+            continue
+        out.append(sympy.Add(*parts))
+    return out

@@ -308,8 +308,15 @@ def _outputs(rng: random.Random, g: Graph) -> tuple[Output, ...]:
             kind, target = rng.choice(sigs)
             terms: tuple[Term, ...] = (Term(1, kind, target),)
         else:
-            terms = tuple(Term(rng.choice([-3, -2, -1, 1, 2, 3]), *rng.choice(sigs))
-                          for _ in range(rng.choice([2, 2, 3])))
+            drawn = [Term(rng.choice([-3, -2, -1, 1, 2, 3]), *rng.choice(sigs))
+                     for _ in range(rng.choice([2, 2, 3]))]
+            # a signal drawn twice is one term: 2*x - 2*x would reach the engine as the
+            # number 0, which no engine can tell from a forgotten signal
+            merged: dict[tuple, int] = {}
+            for t in drawn:
+                merged[(t.kind, t.target)] = merged.get((t.kind, t.target), 0) + t.coef
+            terms = tuple(Term(c, k, tg) for (k, tg), c in merged.items() if c) or \
+                (Term(1, drawn[0].kind, drawn[0].target),)
         outs.append(Output(f"y{i + 1}", terms))
     return tuple(outs)
 
