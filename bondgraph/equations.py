@@ -108,18 +108,23 @@ def derive(graph: Union[BondGraph, AugmentedBondGraph], outputs: OutputSpec = No
             return _Deriver(aug, outputs).run()
         except SingularLoopError as err:
             first = first or err
-            for name in err.storage:
+            keep = None
+            for name in err.storage:       # the first flip that derives wins
                 if name in forced:
                     continue
                 try:
                     trial = assign_causality(aug.flat, prefer_derivative=forced | {name})
                 except CausalityError:
                     continue
-                if name in trial.derivative:
-                    forced, aug = forced | {name}, trial
-                    break
-            else:
+                if name not in trial.derivative:
+                    continue
+                try:
+                    return _Deriver(trial, outputs).run()
+                except SingularLoopError:
+                    keep = keep or (name, trial)
+            if keep is None:
                 break
+            forced, aug = forced | {keep[0]}, keep[1]   # none alone: keep one, go on
     assert first is not None
     raise first
 
@@ -483,8 +488,33 @@ class _Deriver:
 
     def _solve_blocks(self, unknowns: dict[sympy.Symbol, sympy.Expr], what: str) -> dict:
         """Solve u = expr(u, ...) for the unknowns (see :func:`bondgraph.loops.solve_blocks`)."""
-        return solve_blocks(unknowns, knowns=self._knowns(), what=what, model=self.flat.name,
-                            states=self.state_of)
+        try:
+            return solve_blocks(unknowns, knowns=self._knowns(), what=what,
+                                model=self.flat.name, states=self.state_of)
+        except SingularLoopError as err:
+            err.storage = tuple(dict.fromkeys(err.storage + self._storage_near(err.block)))
+            raise
+
+    def _storage_near(self, block) -> tuple[str, ...]:
+        """Integral storage on the junctions that a singular block's bonds touch."""
+        var_of = {sym: v for v, sym in self.broken.items()}
+        state_el = {x: n for n, x in self.state_of.items()}
+        xdot_state = {xd: x for x, xd in self.xdot.items()}
+        junctions: set[str] = set()
+        for u in block:
+            if u in var_of:
+                b = self.bonds[var_of[u] // 2]
+                junctions |= {b.tail, b.head}
+            elif u in xdot_state and xdot_state[u] in state_el:
+                (k,) = self.flat.incidence[state_el[xdot_state[u]]]
+                junctions |= {self.bonds[k].tail, self.bonds[k].head}
+        near = []
+        for j in sorted(junctions):
+            for k in self.flat.incidence.get(j, ()):
+                for end in (self.bonds[k].tail, self.bonds[k].head):
+                    if end in self.state_of and end not in near:
+                        near.append(end)
+        return tuple(near)
 
     # ------------------------------------------------------------ main
     def run(self) -> Model:

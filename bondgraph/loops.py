@@ -30,6 +30,7 @@ class SingularLoopError(AlgebraicLoopError):
     """A singular loop block; ``storage`` names the integral storage elements in it."""
 
     storage: tuple[str, ...] = ()
+    block: tuple = ()
 
 
 _SINGULAR: list = []
@@ -156,6 +157,7 @@ def solve_blocks(unknowns: dict[sympy.Symbol, sympy.Expr], *, knowns: set, what:
             "drawn with a 0-junction for every node including ground: remove the ground "
             "node's junction; or storage elements joined so that they cannot be "
             "independent)")
+        singular.block = tuple(block)
         singular.storage = tuple(sorted(
             n for n, x in states.items()
             if any(x in (eq.free_symbols if hasattr(eq, "free_symbols") else ())
