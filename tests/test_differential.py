@@ -329,3 +329,16 @@ def test_random_graphs_match_the_reference(chunk):
         outcomes.append(gen.check(g, time_limit_s=TIME_LIMIT_S))
     bad = [o for o in outcomes if o.cls in gen.FAILURES]
     assert not bad, _report(bad)
+
+
+# Graphs that the long run (bench/verify_random.py, up to 25 elements) once failed:
+# singular loops from storage fixed by the junction structure (421, 812, 2699), nested
+# loop solutions too slow to reduce (1995, 2628), outputs that cancel to 0 (1538).
+REGRESSION_SEEDS = [421, 812, 1538, 1995, 2628, 2699]
+
+
+@pytest.mark.parametrize("seed", REGRESSION_SEEDS)
+def test_long_run_regressions(seed):
+    g = gen.generate(seed)
+    outcome = gen.check(g, time_limit_s=30)
+    assert outcome.cls not in gen.FAILURES, _report([outcome])

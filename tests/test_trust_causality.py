@@ -159,3 +159,22 @@ def test_storage_fixed_algebraically_goes_to_derivative_causality():
     G = m.transfer_function("F1", "y2")
     R3 = sp.Symbol("R3", positive=True)
     assert sp.simplify(G.expr - 3 * R3 / G.s) == 0
+
+
+def test_capacitor_loop_between_two_nodes():
+    """Sf u into node z3; branch o5 with C3 and branch o6 with C4, C5 in series, both
+    from z3 to node z4; R from z4 to ground.  KCL: all of u reaches R, so v_R = R u.
+    KVL: v_C3 = v_C4 + v_C5, so C3 is dependent on the series pair
+    Cs = C4 C5/(C4 + C5): V_C3/U = 1/(s (C3 + Cs))."""
+    g = bg.BondGraph("kvl")
+    g.add(bg.Sf("u"), bg.Zero("z3"), bg.Zero("z4"), bg.One("o5"), bg.One("o6"), bg.C("C3"),
+          bg.C("C4"), bg.C("C5"), bg.R("R"))
+    for t, h in [("u", "z3"), ("z3", "o5"), ("o5", "z4"), ("z3", "o6"), ("o6", "z4"),
+                 ("o5", "C3"), ("o6", "C4"), ("o6", "C5"), ("z4", "R")]:
+        g.connect(t, h)
+    m = bg.derive(g, outputs={"v3": bg.effort("C3"), "vR": bg.effort("R")})
+    assert len(m.augmented.derivative) == 1
+    C3, C4, C5, R = P("C3 C4 C5 R")
+    G = m.transfer_function("u", "v3")
+    assert sp.simplify(G.expr - 1 / (G.s * (C3 + C4 * C5 / (C4 + C5)))) == 0
+    assert sp.simplify(m.transfer_function("u", "vR").expr - R) == 0
