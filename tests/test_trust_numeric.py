@@ -40,3 +40,14 @@ def test_export_refuses_improper_plants(tmp_path):
     assert list(tmp_path.iterdir()) == []
     with pytest.raises(bg.ImproperPlantError):
         plant.to_control()
+
+
+def test_import_does_not_load_matplotlib():
+    """Plotting and PNG output load matplotlib on first use only (a fresh interpreter)."""
+    import subprocess
+    import sys
+
+    out = subprocess.run([sys.executable, "-c",
+                          "import sys, bondgraph; print('matplotlib' in sys.modules)"],
+                         capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"

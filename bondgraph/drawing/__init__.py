@@ -29,7 +29,14 @@ from .layout import boxes_overlap, grid_layout, overlapping_pairs
 from .scene import BondShape, Label, Scene, build_scene
 from .source import Diagram, DrawingError, Edge, Node, diagram
 from .svg import scene_to_svg
-from .raster import scene_figure, write_png
+
+
+def __getattr__(name: str):
+    """``scene_figure`` and ``write_png`` load matplotlib: imported on first use only."""
+    if name in ("scene_figure", "write_png"):
+        from . import raster
+        return getattr(raster, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 __all__ = [
     "draw", "repr_svg", "DrawingError",

@@ -20,7 +20,6 @@ from pathlib import Path
 from typing import Optional, Union
 
 from ..errors import BondGraphError
-from .raster import write_png
 from .scene import build_scene
 from .source import Drawable, DrawingError, diagram
 from .svg import scene_to_svg
@@ -97,6 +96,7 @@ def draw(obj: Drawable, path: Union[str, os.PathLike, None] = None, *,
         if kind == "svg":
             _atomic_write(path, lambda f: f.write(svg.encode("utf-8")))
         else:
+            from .raster import write_png   # matplotlib only when a PNG is asked for
             _atomic_write(path, lambda f: write_png(scene, f, dpi=dpi))
     return svg
 
