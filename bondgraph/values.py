@@ -1,0 +1,105 @@
+"""Parameter values given by the user, turned into sympy expressions and checked.
+
+Text is never parsed: strings must be (dotted) identifiers and become positive
+symbols.  Numbers must be finite and real; an exact zero is refused where an
+element divides by it.  Used by :mod:`bondgraph.elements`.
+
+Examples
+--------
+>>> to_expr("Rm", owner="R:Rm", what="parameter")
+Rm
+>>> to_expr(float("nan"), owner="R:b", what="parameter")
+Traceback (most recent call last):
+...
+bondgraph.errors.ParameterError: R:b: parameter must be finite, got nan
+"""
+
+from __future__ import annotations
+
+import keyword
+import math
+import numbers
+import re
+from typing import Optional, Union
+
+import sympy
+
+from .errors import ParameterError
+from .signals import LawVariable
+
+__all__ = ["ParameterLike", "to_expr", "nonzero"]
+
+ParameterLike = Union[None, numbers.Real, str, sympy.Expr]
+
+_DOTTED = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*$")
+
+
+def to_expr(value: ParameterLike, *, owner: str, what: str,
+            law: bool = False) -> Optional[sympy.Expr]:
+    """Turn a user-supplied parameter into a sympy expression, never parsing text.
+
+    Strings must be (dotted) identifiers and become positive symbols.  Law
+    variables (``bg.p``, ``bg.q``, ``bg.e``, ``bg.f``) are accepted only in a
+    law (``law=True``): in a parameter they would silently become a parameter.
+    """
+    if value is None:
+        return None
+    if isinstance(value, bool):
+        raise ParameterError(f"{owner}: {what} must be a number, symbol or expression, got a bool")
+    if isinstance(value, sympy.Basic):
+        if not isinstance(value, sympy.Expr):
+            raise ParameterError(f"{owner}: {what} must be a sympy expression, got {type(value).__name__}")
+        if not law:
+            own = sorted(str(s) for s in value.free_symbols if isinstance(s, LawVariable))
+            if own:
+                raise ParameterError(
+                    f"{owner}: {what} {value} uses the law variable(s) {', '.join(own)}; "
+                    "a law in the element's own variable is given with law= (for example "
+                    "bg.R('d', law=c*bg.f*abs(bg.f))), a parameter is a number, symbol or "
+                    "expression of parameters and signals"
+                )
+        _check_numbers(value, owner=owner, what=what)
+        return value
+    if isinstance(value, numbers.Integral):
+        return sympy.Integer(int(value))
+    if isinstance(value, numbers.Real):
+        fval = float(value)
+        if fval != fval or fval in (float("inf"), float("-inf")):
+            raise ParameterError(f"{owner}: {what} must be finite, got {value!r}")
+        return sympy.Float(fval)
+    if isinstance(value, str):
+        if not _DOTTED.fullmatch(value) or keyword.iskeyword(value):
+            raise ParameterError(
+                f"{owner}: {what} {value!r} is not a parameter name; give an identifier "
+                "such as 'Rm', a number, or a sympy expression (text is never parsed)"
+            )
+        return sympy.Symbol(value, positive=True)
+    raise ParameterError(
+        f"{owner}: {what} must be a number, an identifier string or a sympy expression; "
+        f"got {type(value).__name__}"
+    )
+
+
+def _check_numbers(value: sympy.Expr, *, owner: str, what: str) -> None:
+    """Refuse nan, infinities, complex numbers and overflowing floats in an expression."""
+    bad = value.has(sympy.nan, sympy.oo, -sympy.oo, sympy.zoo, sympy.I)
+    if not bad:
+        for atom in value.atoms(sympy.Number):
+            if not math.isfinite(float(atom)):
+                bad = True
+    if bad:
+        raise ParameterError(
+            f"{owner}: {what} {sympy.sstr(value)[:40]} is not a finite real value (nan, infinity or a complex "
+            "number); parameters are finite reals (negative values are allowed for active "
+            "elements)"
+        )
+
+
+def nonzero(value: Optional[sympy.Expr], *, owner: str, what: str) -> Optional[sympy.Expr]:
+    """Refuse an exact zero where the element divides by the value."""
+    if value is not None and value.is_zero:
+        raise ParameterError(
+            f"{owner}: {what} is 0, but the element divides by it; remove the element or "
+            "join its bonds with a junction instead"
+        )
+    return value
