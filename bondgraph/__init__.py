@@ -24,8 +24,8 @@ from .elements import GY, MGY, MTF, TF, C, Element, I, One, Port, R, Se, Sf, Zer
 from .equations import derive
 from .errors import (AlgebraicLoopError, BondGraphError, BondGraphWarning, CausalityConflictError,
                      CausalityError, DuplicateNameError, LawError, ModelStructureError,
-                     NameClashError, NonlinearModelError, OutputError, ParameterError, PortError,
-                     UnknownElementError)
+                     MissingValueError, NameClashError, NonlinearModelError, OutputError,
+                     ParameterError, ParameterValueError, PortError, UnknownElementError)
 from .flatten import FlatGraph, flatten
 from .graph import Bond, BondGraph
 from .model import Model
@@ -33,7 +33,6 @@ from .signals import Signal, displacement, e, effort, f, flow, momentum, p, q, t
 from .statespace import SymbolicStateSpace
 from .modelfile import ModelDefinition, ModelFileError, load_model
 from .numeric import (BatchStateSpace, ImproperPlantError, NumericModel, NumericStateSpace,
-                      ParameterValueError,
                       SimulationResult, compile_plant, numeric_plant, simulate,
                       to_nonlinear_iosys)
 from .export import ExportError
@@ -53,7 +52,7 @@ __all__ = [
     "BondGraphWarning",
     "ModelDefinition", "ModelFileError", "load_model",
     "compile_plant", "numeric_plant", "NumericModel", "NumericStateSpace", "BatchStateSpace",
-    "simulate", "SimulationResult", "to_nonlinear_iosys", "ParameterValueError",
+    "simulate", "SimulationResult", "to_nonlinear_iosys", "ParameterValueError", "MissingValueError",
     "ImproperPlantError",
     "ExportError", "draw",
 ]

@@ -22,6 +22,8 @@ __all__ = [
     "OutputError",
     "NonlinearModelError",
     "NameClashError",
+    "ParameterValueError",
+    "MissingValueError",
     "BondGraphWarning",
 ]
 
@@ -77,6 +79,30 @@ class NonlinearModelError(BondGraphError, ValueError):
 class NameClashError(ModelStructureError):
     """Two different things of a model would print with the same name
     (an input named ``p_m`` beside the state ``p_m`` of ``I('m')``)."""
+
+
+class ParameterValueError(BondGraphError, ValueError):
+    """Values given for parameters cannot be used: an unknown name, a
+    missing value, or a value that is not a finite real number.
+
+    Every call that takes parameter values (``plant``, ``batch``, ``subs``,
+    ``simulate``, code-generation defaults, grey-box fits) raises this one
+    class.
+
+    Attributes
+    ----------
+    missing, unknown : tuple of str
+        Parameter names that were not given / that the model does not know.
+    """
+
+    def __init__(self, message: str, *, missing: tuple = (), unknown: tuple = ()) -> None:
+        super().__init__(message)
+        self.missing = tuple(missing)
+        self.unknown = tuple(unknown)
+
+
+class MissingValueError(ParameterValueError):
+    """A numeric evaluation was asked while some parameters have no value."""
 
 
 class BondGraphWarning(UserWarning):

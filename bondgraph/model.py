@@ -8,6 +8,7 @@ augmented bond graph it came from.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from typing import Optional
 
@@ -16,8 +17,10 @@ import sympy
 from ._labels import latex_dot, latex_name, tex
 from .causality import AugmentedBondGraph
 from .errors import NonlinearModelError
+from .signals import LawVariable, Signal
 from .signals import t as T_SYM
 from .statespace import SymbolicStateSpace
+from .values import as_expr
 
 __all__ = ["Model"]
 
@@ -80,6 +83,9 @@ class Model:
     descriptor: Optional[tuple] = field(default=None, repr=False)
     storage_states: int = field(default=0, repr=False)
     integrators: tuple[tuple[str, str], ...] = field(default=(), repr=False)
+    #: parameter names a model definition declares beyond its elements' (the
+    #: defaults of a model file that serves several variants)
+    declared_parameters: tuple[str, ...] = field(default=(), repr=False)
 
     # ----------------------------------------------------------------- names
     @property
@@ -100,6 +106,25 @@ class Model:
         if self.descriptor is not None:
             syms |= self.descriptor[0].free_symbols
         return tuple(sorted(syms - known, key=lambda s: s.name))
+
+    @property
+    def known_parameters(self) -> tuple[str, ...]:
+        """Names of every parameter of the model definition, sorted.
+
+        A superset of :attr:`parameters`: it also holds parameters of
+        elements whose value does not reach the equations (an inertia in
+        derivative causality with no output on it, a parameter that dropped
+        out of a linearization).  Values given for these are accepted and
+        ignored by every call that takes values (:mod:`bondgraph.parameters`).
+        """
+        names = {p.name for p in self.parameters} | set(self.declared_parameters)
+        for el in self.augmented.flat.elements:
+            for fld in dataclasses.fields(el):
+                val = getattr(el, fld.name)
+                if isinstance(val, sympy.Basic):
+                    names |= {s.name for s in val.free_symbols
+                              if not isinstance(s, (Signal, LawVariable)) and s != T_SYM}
+        return tuple(sorted(names))
 
     @property
     def equations(self) -> tuple[sympy.Eq, ...]:
@@ -152,7 +177,8 @@ class Model:
         x, u = self.states, self.inputs
         A, B = _linear_form(self.rhs, x, u, self, "state equation", "x'")
         C, D = _linear_form(self.output_exprs, x, u, self, "output", "y")
-        return SymbolicStateSpace(A, B, C, D, self.state_names, self.input_names, self.output_names)
+        return SymbolicStateSpace(A, B, C, D, self.state_names, self.input_names, self.output_names,
+                                  known_parameters=self.known_parameters)
 
     def _laplace_system(self, descriptor: bool, s: sympy.Symbol, outputs=None):
         """``A, B(s), C, D(s), E`` of the Laplace-transformed equations.
@@ -254,9 +280,10 @@ class Model:
         s = options.pop("s", None) or sympy.Symbol("s")
         i = _resolve(output, self.output_names, "output")
         A, B, C, D, E = self._laplace_system(use_e, s, [i])
-        return transfer_function(A, B, C, D, E=E, input=input, output=0,
-                                 input_names=self.input_names,
-                                 output_names=(self.output_names[i],), s=s, **options)
+        G = transfer_function(A, B, C, D, E=E, input=input, output=0,
+                              input_names=self.input_names,
+                              output_names=(self.output_names[i],), s=s, **options)
+        return dataclasses.replace(G, known_parameters=self.known_parameters)
 
     def transfer_matrix(self, **options):
         """All input/output transfer functions over one denominator (see :mod:`bondgraph.tf`).
@@ -268,8 +295,9 @@ class Model:
 
         s = options.pop("s", None) or sympy.Symbol("s")
         A, B, C, D, E = self._laplace_system(self.descriptor is not None, s)
-        return transfer_matrix(A, B, C, D, E=E, input_names=self.input_names,
-                               output_names=self.output_names, s=s, **options)
+        G = transfer_matrix(A, B, C, D, E=E, input_names=self.input_names,
+                            output_names=self.output_names, s=s, **options)
+        return dataclasses.replace(G, known_parameters=self.known_parameters)
 
     def _repr_latex_(self) -> str:
         return _equations_latex(self)
@@ -343,7 +371,7 @@ class Model:
                 sympy.diff(exprs[i], wrt[j]).xreplace(point)))
         return SymbolicStateSpace(jac(self.rhs, x), jac(self.rhs, u), jac(self.output_exprs, x),
                                   jac(self.output_exprs, u), self.state_names, self.input_names,
-                                  self.output_names)
+                                  self.output_names, known_parameters=self.known_parameters)
 
     def descriptor_form(self) -> SymbolicStateSpace:
         """``E x' = A x + B u`` as derived, before eliminating dependent storage.
@@ -354,7 +382,8 @@ class Model:
             ss = self.state_space()
             return SymbolicStateSpace(ss.A, ss.B, ss.C, ss.D, ss.state_names,
                                       ss.input_names, ss.output_names,
-                                      sympy.ImmutableMatrix(sympy.eye(len(self.states))))
+                                      sympy.ImmutableMatrix(sympy.eye(len(self.states))),
+                                      known_parameters=self.known_parameters)
         E, F = self.descriptor
         x, u = self.states, self.inputs
         A, B = _linear_form(F, x, u, self, "state equation", "F")
@@ -362,7 +391,7 @@ class Model:
         if E.free_symbols & (set(x) | set(u)):
             raise NonlinearModelError(f"model {self.name!r}: E depends on the states")
         return SymbolicStateSpace(A, B, C, D, self.state_names, self.input_names,
-                                  self.output_names, E)
+                                  self.output_names, E, known_parameters=self.known_parameters)
 
 
 def _equations_latex(model: Model) -> str:
@@ -417,8 +446,7 @@ def _point(model: Model, values, symbols, what: str) -> dict:
         if name not in by_name:
             raise NonlinearModelError(
                 f"model {model.name!r}: {what} {name!r} is not one of {', '.join(by_name)}")
-        out[by_name[name]] = val if isinstance(val, sympy.Basic) else sympy.sympify(
-            float(val) if not isinstance(val, int) else val)
+        out[by_name[name]] = as_expr(val, what=f"{what} {name!r}", error=NonlinearModelError)
     missing = [n for n, sym in by_name.items() if sym not in out]
     if missing:
         raise NonlinearModelError(

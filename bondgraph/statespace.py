@@ -14,12 +14,12 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Mapping
+from dataclasses import dataclass, field
 
 import sympy
 
 from .errors import BondGraphError
+from .parameters import ParameterValues, exact_value, match_values
 
 __all__ = ["SymbolicStateSpace"]
 
@@ -87,6 +87,8 @@ class SymbolicStateSpace(SignalCounts):
     input_names: tuple[str, ...]
     output_names: tuple[str, ...]
     E: sympy.ImmutableMatrix | None = None
+    #: names of every parameter of the model definition (see :mod:`bondgraph.parameters`)
+    known_parameters: tuple[str, ...] = field(default=(), compare=False, repr=False)
 
     def __post_init__(self) -> None:
         for label in "ABCD":
@@ -101,18 +103,36 @@ class SymbolicStateSpace(SignalCounts):
             syms |= mat.free_symbols
         return tuple(sorted(syms, key=lambda s: s.name))
 
-    def subs(self, values: Mapping) -> "SymbolicStateSpace":
-        """Substitute parameter values (symbols or numbers) in every matrix."""
-        sub = {(_sym(self, k) if isinstance(k, str) else k): v for k, v in values.items()}
-        for k, v in sub.items():
-            if isinstance(v, str) or not isinstance(v, (sympy.Basic, int, float)):
-                raise BondGraphError(f"value of {k}: expected a number or sympy expression, "
-                                     f"got {type(v).__name__} {v!r} (text is never parsed)")
+    def subs(self, values: ParameterValues | None = None, *,
+             partial: bool = True) -> "SymbolicStateSpace":
+        """Substitute parameter values in every matrix.
+
+        Parameters
+        ----------
+        values : mapping of parameter name (or Symbol) to number
+            Exact: floats are read as the rational of their decimal
+            representation, so entries that cancel do so exactly.  Names of
+            the model definition this form does not use are ignored; other
+            unknown names are an error listing the valid ones.
+        partial : bool, optional
+            ``True`` (default) leaves parameters without a value symbolic;
+            ``False`` requires a value for each.
+
+        Raises
+        ------
+        ParameterValueError
+            Unknown name, missing value (``partial=False``), or a value that is
+            not a finite real number (text is never parsed).
+        """
+        given = match_values(self.parameters, values, known=self.known_parameters,
+                             partial=partial)
+        sub = {p: exact_value(v, p.name) for p, v in given.items()}
+
         def f(mat):
-            return None if mat is None else sympy.ImmutableMatrix(mat.xreplace(
-                {k: sympy.sympify(v) for k, v in sub.items()}))
+            return None if mat is None else sympy.ImmutableMatrix(mat.xreplace(sub))
         return SymbolicStateSpace(f(self.A), f(self.B), f(self.C), f(self.D),
-                                  self.state_names, self.input_names, self.output_names, f(self.E))
+                                  self.state_names, self.input_names, self.output_names, f(self.E),
+                                  known_parameters=self.known_parameters)
 
     def to_latex(self) -> str:
         r"""Matrix form ``E x' = A x + B u``, ``y = C x + D u`` in LaTeX.
@@ -142,11 +162,3 @@ class SymbolicStateSpace(SignalCounts):
             if mat is not None:
                 parts.append(f"{label} = {sympy.pretty(mat, use_unicode=False)}")
         return "\n".join(parts)
-
-
-def _sym(ss: SymbolicStateSpace, name: str) -> sympy.Symbol:
-    for s in ss.parameters:
-        if s.name == name:
-            return s
-    raise BondGraphError(f"no parameter named {name!r}; parameters are "
-                         f"{', '.join(s.name for s in ss.parameters)}")

@@ -24,14 +24,91 @@ from typing import Optional, Union
 
 import sympy
 
-from .errors import ParameterError
+from .errors import BondGraphError, ParameterError
 from .signals import LawVariable
 
-__all__ = ["ParameterLike", "to_expr", "nonzero"]
+__all__ = ["ParameterLike", "to_expr", "nonzero", "as_expr", "as_matrix"]
 
 ParameterLike = Union[None, numbers.Real, str, sympy.Expr]
 
 _DOTTED = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z_][A-Za-z0-9_]*)*$")
+
+
+def as_expr(value: object, *, what: str,
+            error: type[BondGraphError] = ParameterError) -> sympy.Expr:
+    """A number or sympy expression as a sympy expression; text is refused, never parsed.
+
+    The one way the package turns a user value into an expression where an
+    identifier string is not meaningful (``D`` of a transfer function, an
+    expression in ``s``, a mass ratio).  ``sympify`` runs strictly, so no
+    string ever reaches its parser.
+
+    Parameters
+    ----------
+    value : number or sympy.Expr
+    what : str
+        The argument's name, for the message.
+    error : BondGraphError subclass, optional
+        The class raised (the caller's own error family).
+
+    Examples
+    --------
+    >>> as_expr(0.5, what="mass_ratio")
+    0.500000000000000
+    >>> as_expr("__import__('os')", what="mass_ratio")
+    Traceback (most recent call last):
+    ...
+    bondgraph.errors.ParameterError: mass_ratio: expected a number or a sympy expression, got the string "__import__('os')" (text is never parsed)
+    """
+    if isinstance(value, str):
+        raise error(f"{what}: expected a number or a sympy expression, got the string "
+                    f"{value!r} (text is never parsed)")
+    if isinstance(value, bool):
+        raise error(f"{what}: expected a number or a sympy expression, got a bool")
+    try:
+        out = sympy.sympify(value, strict=True)
+    except (sympy.SympifyError, TypeError, ValueError):
+        raise error(f"{what}: expected a number or a sympy expression, got "
+                    f"{type(value).__name__}") from None
+    if not isinstance(out, sympy.Expr):
+        raise error(f"{what}: expected a number or a sympy expression, got "
+                    f"{type(out).__name__}")
+    return out
+
+
+def _has_text(obj: object) -> bool:
+    if isinstance(obj, str):
+        return True
+    return isinstance(obj, (list, tuple)) and any(_has_text(x) for x in obj)
+
+
+def as_matrix(value: object, *, what: str,
+              error: type[BondGraphError] = ParameterError) -> sympy.ImmutableMatrix:
+    """A sympy matrix, a nested list or a numpy array as an immutable sympy matrix.
+
+    Entries are numbers or sympy expressions; a string entry is refused (it
+    would otherwise be parsed by sympy).
+
+    Examples
+    --------
+    >>> as_matrix([[1, 2]], what="C")
+    Matrix([[1, 2]])
+    >>> as_matrix([["1"]], what="D")
+    Traceback (most recent call last):
+    ...
+    bondgraph.errors.ParameterError: D: expected a matrix of numbers or sympy expressions; an entry is a string (text is never parsed)
+    """
+    if isinstance(value, sympy.MatrixBase):
+        return sympy.ImmutableMatrix(value)
+    obj = value.tolist() if hasattr(value, "tolist") and not isinstance(value, sympy.Basic) else value
+    if _has_text(obj):
+        raise error(f"{what}: expected a matrix of numbers or sympy expressions; an entry is a "
+                    "string (text is never parsed)")
+    try:
+        return sympy.ImmutableMatrix(obj)
+    except (TypeError, ValueError, sympy.SympifyError) as exc:
+        raise error(f"{what}: expected a matrix (sympy Matrix, nested list or numpy array), "
+                    f"got {type(value).__name__}: {exc}") from None
 
 
 def to_expr(value: ParameterLike, *, owner: str, what: str,

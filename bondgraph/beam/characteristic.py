@@ -48,6 +48,7 @@ import sympy
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 
+from ..values import as_expr
 from ._validation import BeamParameterError, check_choice, check_float, check_int
 
 __all__ = [
@@ -286,7 +287,8 @@ def characteristic_expression(boundary: str, *, mass_ratio: object = 0,
     sin(betaL)*cosh(betaL) - cos(betaL)*sinh(betaL)
     """
     check_choice(boundary, "boundary", BOUNDARIES)
-    mu, j = sympy.sympify(mass_ratio), sympy.sympify(inertia_ratio)
+    mu = as_expr(mass_ratio, what="mass_ratio", error=BeamParameterError)
+    j = as_expr(inertia_ratio, what="inertia_ratio", error=BeamParameterError)
     lam = BETA_L
     c, s, ch, sh = _sym_parts(lam)
     if boundary == "clamped-free":
@@ -327,7 +329,9 @@ def hub_characteristic_expression(*, hub_ratio: object, radius_ratio: object = 0
     >>> hub_characteristic_expression(hub_ratio=eta)
     betaL**3*eta*(cos(betaL)*cosh(betaL) + 1) + sin(betaL)*cosh(betaL) - cos(betaL)*sinh(betaL)
     """
-    eta, rho = sympy.sympify(hub_ratio), sympy.sympify(radius_ratio)
-    mu, j = sympy.sympify(mass_ratio), sympy.sympify(inertia_ratio)
+    eta = as_expr(hub_ratio, what="hub_ratio", error=BeamParameterError)
+    rho = as_expr(radius_ratio, what="radius_ratio", error=BeamParameterError)
+    mu = as_expr(mass_ratio, what="mass_ratio", error=BeamParameterError)
+    j = as_expr(inertia_ratio, what="inertia_ratio", error=BeamParameterError)
     f = characteristic_expression("clamped-free", mass_ratio=mu, inertia_ratio=j)
     return eta * BETA_L**3 * f + _sym_p(rho, mu, j)

@@ -3,34 +3,20 @@
 Examples
 --------
 >>> from bondgraph.numeric.errors import ParameterValueError, NumericError
->>> issubclass(ParameterValueError, NumericError) and issubclass(ParameterValueError, ValueError)
+>>> import bondgraph as bg
+>>> ParameterValueError is bg.ParameterValueError and issubclass(NumericError, bg.BondGraphError)
 True
 """
 
 from __future__ import annotations
 
-from ..errors import BondGraphError
+from ..errors import BondGraphError, ParameterValueError
 
 __all__ = ["NumericError", "ParameterValueError", "SimulationError", "ImproperPlantError"]
 
 
 class NumericError(BondGraphError, ValueError):
     """A numeric plant cannot be built or used as asked (shapes, names)."""
-
-
-class ParameterValueError(NumericError):
-    """Parameter values are missing, unknown, or not finite real numbers.
-
-    Attributes
-    ----------
-    missing, unknown : tuple of str
-        Parameter names that were not given / that the model does not have.
-    """
-
-    def __init__(self, message: str, *, missing: tuple = (), unknown: tuple = ()) -> None:
-        super().__init__(message)
-        self.missing = tuple(missing)
-        self.unknown = tuple(unknown)
 
 
 class SimulationError(BondGraphError, RuntimeError):

@@ -1,8 +1,10 @@
 """Checking numeric parameter values against a model's parameter symbols.
 
 Values are given as a mapping keyed by sympy Symbol or by its name (``"Ra"``,
-``"motor.Ra"``).  Every parameter must be given exactly once and nothing else:
-missing and unknown names are reported together in one error.
+``"motor.Ra"``), matched by the package-wide policy of
+:mod:`bondgraph.parameters`: every parameter given once, unknown and missing
+names reported together in one error, values of parameters the model
+definition knows but this form does not use (``known=``) ignored.
 
 Examples
 --------
@@ -13,98 +15,34 @@ array([0.5, 2. ])
 >>> resolve_parameters((La, Ra), {"Ra": 2, "Rb": 1})
 Traceback (most recent call last):
 ...
-bondgraph.numeric.errors.ParameterValueError: parameter values do not match the model: missing La; unknown Rb. Expected exactly: La, Ra
+bondgraph.errors.ParameterValueError: unknown parameter 'Rb' (did you mean 'Ra'?); missing La. Valid names: La, Ra
 """
 
 from __future__ import annotations
 
-import math
-import numbers
-from typing import Any, Mapping, Sequence, Union
+from typing import Any, Iterable, Mapping, Sequence, Union
 
 import numpy as np
 import sympy
 
+from ..parameters import ParameterValues, match_values, parameter_name, real_value
 from .errors import ParameterValueError
 
 __all__ = ["ParameterValues", "resolve_parameters", "resolve_batch", "parameter_name"]
 
-ParameterValues = Mapping[Union[sympy.Symbol, str], Any]
 
-
-def parameter_name(key: object) -> str:
-    """The name a parameter key stands for (a Symbol's name, or the str itself).
-
-    Parameters
-    ----------
-    key : sympy.Symbol or str
-        A key of a parameter-value mapping.
-
-    Raises
-    ------
-    ParameterValueError
-        For any other kind of key.
-
-    Examples
-    --------
-    >>> import sympy
-    >>> parameter_name(sympy.Symbol("motor.Ra")), parameter_name("J")
-    ('motor.Ra', 'J')
-    """
-    if isinstance(key, sympy.Symbol):
-        return key.name
-    if isinstance(key, str):
-        return key
-    raise ParameterValueError(
-        f"parameter keys must be sympy Symbols or their names (str); got {type(key).__name__} {key!r}")
-
-
-def _match(names: Sequence[str], values: Mapping, where: str) -> dict[str, Any]:
-    if not isinstance(values, Mapping):
-        raise ParameterValueError(
-            f"{where}parameter values must be a mapping of name (or Symbol) to number; "
-            f"got {type(values).__name__}")
-    given: dict[str, Any] = {}
-    for key, value in values.items():
-        name = parameter_name(key)
-        if name in given:
-            raise ParameterValueError(f"{where}parameter {name!r} is given twice (as a name and as a Symbol)")
-        given[name] = value
-    expected = set(names)
-    missing = [n for n in names if n not in given]
-    unknown = sorted(n for n in given if n not in expected)
-    if missing or unknown:
-        parts = []
-        if missing:
-            parts.append("missing " + ", ".join(missing))
-        if unknown:
-            parts.append("unknown " + ", ".join(unknown))
-        raise ParameterValueError(
-            f"{where}parameter values do not match the model: {'; '.join(parts)}. "
-            f"Expected exactly: {', '.join(names) if names else '(no parameters)'}",
-            missing=tuple(missing), unknown=tuple(unknown))
-    return given
+def _match(names: Sequence[str], values: Mapping, where: str,
+           known: Iterable[str] = ()) -> dict[str, Any]:
+    syms = [sympy.Symbol(n) for n in names]
+    return {p.name: v for p, v in match_values(syms, values, known=known, where=where).items()}
 
 
 def _scalar(value: Any, name: str, where: str) -> float:
-    if isinstance(value, np.ndarray) and value.ndim == 0:
-        value = value[()]
-    if isinstance(value, bool) or isinstance(value, np.bool_):
-        raise ParameterValueError(f"{where}parameter {name!r} must be a finite real number; got a bool")
-    if isinstance(value, numbers.Complex) and not isinstance(value, numbers.Real):
-        raise ParameterValueError(
-            f"{where}parameter {name!r} must be a finite real number; got the complex value {value!r}")
-    if not isinstance(value, numbers.Real):
-        raise ParameterValueError(
-            f"{where}parameter {name!r} must be a finite real number; got {type(value).__name__} {value!r}")
-    out = float(value)
-    if not math.isfinite(out):
-        raise ParameterValueError(f"{where}parameter {name!r} must be finite; got {out!r}")
-    return out
+    return real_value(value, name, where)
 
 
 def resolve_parameters(parameters: Sequence[sympy.Symbol], values: ParameterValues, *,
-                       model: str = "") -> np.ndarray:
+                       model: str = "", known: Iterable[str] = ()) -> np.ndarray:
     """Values in the order of ``parameters``, checked.
 
     Parameters
@@ -115,6 +53,9 @@ def resolve_parameters(parameters: Sequence[sympy.Symbol], values: ParameterValu
         One finite real number per parameter.
     model : str, optional
         Model name used in error messages.
+    known : iterable of str, optional
+        Names the model definition knows beyond ``parameters``; their values
+        are accepted and ignored (see :mod:`bondgraph.parameters`).
 
     Returns
     -------
@@ -134,16 +75,17 @@ def resolve_parameters(parameters: Sequence[sympy.Symbol], values: ParameterValu
     >>> resolve_parameters((k, m), {"k": 4.0, "m": float("nan")})
     Traceback (most recent call last):
     ...
-    bondgraph.numeric.errors.ParameterValueError: parameter 'm' must be finite; got nan
+    bondgraph.errors.ParameterValueError: parameter 'm' must be a finite real number; got nan
     """
     where = f"model {model!r}: " if model else ""
     names = [p.name for p in parameters]
-    given = _match(names, values, where)
+    given = _match(names, values, where, known)
     return np.array([_scalar(given[n], n, where) for n in names], dtype=float)
 
 
 def resolve_batch(parameters: Sequence[sympy.Symbol],
-                  values: Union[ParameterValues, np.ndarray], *, model: str = "") -> np.ndarray:
+                  values: Union[ParameterValues, np.ndarray], *, model: str = "",
+                  known: Iterable[str] = ()) -> np.ndarray:
     """A ``(P, k)`` array of parameter sets, one row per set, columns in order.
 
     Parameters
@@ -181,7 +123,7 @@ def resolve_batch(parameters: Sequence[sympy.Symbol],
     names = [p.name for p in parameters]
     k = len(names)
     if isinstance(values, Mapping):
-        given = _match(names, values, where)
+        given = _match(names, values, where, known)
         cols = [_column(given[n], n, where) for n in names]
         lengths = {c.shape[0] for c in cols if c.ndim == 1}
         if len(lengths) > 1:

@@ -42,6 +42,8 @@ array([[-1., -1.],
 
 from __future__ import annotations
 
+import dataclasses
+
 from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, Mapping, Optional, Sequence, Union
@@ -470,9 +472,13 @@ class NumericModel(_CompiledModel):
                 row = values[idx[0]] if batch else values
                 entry = idx[1:] if batch else idx
                 vals = ", ".join(f"{n}={v:g}" for n, v in zip(self.parameter_names, row))
+                zeros = [n for n, v in zip(self.parameter_names, row) if v == 0]
+                culprits = _elements_using(self._model, zeros)
+                hint = (f"; {culprits} divides by a parameter that is zero" if culprits else
+                        "; a parameter that divides (mass, inductance, ...) is zero?")
                 raise ParameterValueError(
                     f"model {self._model.name!r}: {where}matrix {label} entry {entry} is "
-                    f"{M[idx]} for {vals}; a parameter that divides (mass, inductance, ...) is zero?")
+                    f"{M[idx]} for {vals}{hint}")
 
     def plant(self, values: ParameterValues) -> NumericStateSpace:
         """Evaluate ``A, B, C, D`` at one parameter set.
@@ -488,7 +494,8 @@ class NumericModel(_CompiledModel):
             Missing or unknown names (listed together), non-finite or
             non-real values, or a non-finite matrix entry.
         """
-        vec = resolve_parameters(self._params, values, model=self._model.name)
+        vec = resolve_parameters(self._params, values, model=self._model.name,
+                                 known=self._model.known_parameters)
         mats = self._evaluate([np.float64(v) for v in vec], None)
         self._check_finite(mats, vec, False)
         A, B, C, D, Dd, S = self._reduce(mats)
@@ -515,7 +522,8 @@ class NumericModel(_CompiledModel):
         ParameterValueError
             As :meth:`plant`, naming the first bad parameter set.
         """
-        arr = resolve_batch(self._params, values, model=self._model.name)
+        arr = resolve_batch(self._params, values, model=self._model.name,
+                            known=self._model.known_parameters)
         size = arr.shape[0]
         mats = self._evaluate([arr[:, j] for j in range(arr.shape[1])], size)
         self._check_finite(mats, arr, True)
@@ -525,6 +533,20 @@ class NumericModel(_CompiledModel):
         return BatchStateSpace(A, B, C, D, self.state_names, self.input_names,
                                self.output_names, self.parameter_names, arr, self._model.name,
                                Dd, S)
+
+
+def _elements_using(model: Model, names: Sequence[str]) -> str:
+    """``"I:La (La = 0)"`` for the elements whose parameters use one of ``names``."""
+    found = []
+    for el in model.augmented.flat.elements:
+        for fld in dataclasses.fields(el):
+            val = getattr(el, fld.name)
+            if isinstance(val, sympy.Basic):
+                hit = sorted({sym.name for sym in val.free_symbols} & set(names))
+                if hit:
+                    found.append(f"{el.label()} ({', '.join(f'{h} = 0' for h in hit)})")
+                    break
+    return ", ".join(found)
 
 
 def _add_derivatives(H: np.ndarray, Dd: Sequence[np.ndarray], omega) -> np.ndarray:

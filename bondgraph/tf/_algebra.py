@@ -316,7 +316,7 @@ def encode_system(A, B, C, D, E, s: sp.Symbol, *, backend: str | None = None) ->
         for i in range(rows):
             irow = []
             for j in range(cols):
-                e = sp.sympify(M[i, j])
+                e = sp.sympify(M[i, j], strict=True)
                 irow.append(len(exprs))
                 if name in ("B", "D") and isinstance(e, sp.Expr) and s in e.free_symbols:
                     # input derivatives: a polynomial in s with parameter coefficients
@@ -372,7 +372,7 @@ def _s_coefficients(e: sp.Expr, name: str, i: int, j: int, s: sp.Symbol):
                                f"derivatives), got {e}") from None
     out = []
     for (k,), c in P.terms():
-        c = sp.sympify(P.domain.to_sympy(c)) if not isinstance(c, sp.Expr) else c
+        c = sp.sympify(P.domain.to_sympy(c), strict=True) if not isinstance(c, sp.Expr) else c
         if s in c.free_symbols:  # pragma: no cover - Poly keeps s out of coefficients
             raise MatrixEntryError(f"{name}[{i}, {j}]: expected a polynomial in {s}, got {e}")
         out.append((k, c))
@@ -425,7 +425,7 @@ def polys_from_exprs(exprs: Sequence[sp.Expr], s: sp.Symbol, *,
     >>> params, sorted(R.terms(p))
     ((a,), [((0, 0), 1), ((1, 1), 1)])
     """
-    exprs = [sp.expand(_rationalize(sp.sympify(e))) for e in exprs]
+    exprs = [sp.expand(_rationalize(sp.sympify(e, strict=True))) for e in exprs]
     dicts, gens = parallel_dict_from_expr(exprs + [s], domain=sp.QQ)
     dicts = dicts[:-1]
     gens = tuple(gens)

@@ -66,7 +66,7 @@ def symbolic_sum(terms: Iterable[tuple[object, str]], *, text: Callable[[sp.Expr
     coefficient that is itself a sum written ``group.format(text(c), monomial)``."""
     parts = []
     for c, mono in terms:
-        c = sp.sympify(c)
+        c = sp.sympify(c, strict=True)
         if c == 0:
             continue
         neg = bool(c.could_extract_minus_sign())

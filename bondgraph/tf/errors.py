@@ -1,8 +1,11 @@
 """Exceptions raised by :mod:`bondgraph.tf`.
 
 Every exception derives from :class:`TransferFunctionError`, itself a
-:class:`bondgraph.BondGraphError` and a ``ValueError``; messages name the argument at fault and say what was expected
-and what was given.
+:class:`bondgraph.BondGraphError` and a ``ValueError``, except the
+parameter-value errors, which are the package-wide
+:class:`bondgraph.ParameterValueError` and its :class:`MissingValueError`
+(one class for every call that takes values).  Messages name the argument
+at fault and say what was expected and what was given.
 
 Examples
 --------
@@ -13,7 +16,7 @@ True
 
 from __future__ import annotations
 
-from ..errors import BondGraphError
+from ..errors import BondGraphError, MissingValueError, ParameterValueError
 
 __all__ = [
     "TransferFunctionError",
@@ -41,14 +44,6 @@ class UnknownSignalError(TransferFunctionError):
 
 class SingularPencilError(TransferFunctionError):
     """``det(sE - A)`` is identically zero: the descriptor system has no TF."""
-
-
-class ParameterValueError(TransferFunctionError):
-    """A parameter value given for a numeric evaluation cannot be used."""
-
-
-class MissingValueError(ParameterValueError):
-    """A numeric evaluation was asked while some parameters have no value."""
 
 
 class InvalidOptionError(TransferFunctionError):

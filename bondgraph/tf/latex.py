@@ -23,6 +23,7 @@ import sympy as sp
 from sympy.printing.conventions import split_super_sub
 
 from .._labels import latex_name, tex
+from ..values import as_matrix
 from ._terms import monomial, numeric_sum, poly_terms, symbolic_sum
 from .errors import InvalidOptionError, ShapeError
 from .tables import latex_number, snap_roots
@@ -205,7 +206,7 @@ def tf_latex(num_coeffs: Sequence[object], den_coeffs: Sequence[object], *,
         n = len(coeffs) - 1
         terms = []
         for k, c in enumerate(coeffs):
-            c = sp.sympify(c)
+            c = sp.sympify(c, strict=True)
             if c == 0:
                 continue
             sym = sp.Symbol(f"{letter}_{n - k}")
@@ -374,7 +375,7 @@ def matrix_latex(M, name: str | None = None) -> str:
     >>> matrix_latex(sp.Matrix([[0, 1/m], [-k, 0]]), "A")
     'A = \\left[\\begin{matrix}0 & \\frac{1}{m}\\\\- k & 0\\end{matrix}\\right]'
     """
-    body = tex(sp.ImmutableMatrix(M))
+    body = tex(as_matrix(M, what=name or "M", error=ShapeError))
     return f"{name} = {body}" if name else body
 
 
@@ -423,7 +424,7 @@ def state_equations_latex(A, B, state_names: Sequence[str] | None = None,
     x &= q
     \end{aligned}
     """
-    A, B = sp.ImmutableMatrix(A), sp.ImmutableMatrix(B)
+    A, B = as_matrix(A, what="A", error=ShapeError), as_matrix(B, what="B", error=ShapeError)
     n = A.shape[0]
     xs = _names(state_names, n, "x", "state_names")
     us = _names(input_names, B.shape[1], "u", "input_names")
@@ -434,14 +435,14 @@ def state_equations_latex(A, B, state_names: Sequence[str] | None = None,
         if E is None:
             left = dot_latex(xs[i])
         else:
-            Em = sp.ImmutableMatrix(E)
+            Em = as_matrix(E, what="E", error=ShapeError)
             left = _combo([(Em[i, j], dot_latex(xs[j])) for j in range(n)])
         right = _combo([(A[i, j], xl[j]) for j in range(n)]
                        + [(B[i, j], ul[j]) for j in range(len(us))])
         lines.append(f"{left} &= {right}")
     if C is not None:
-        C = sp.ImmutableMatrix(C)
-        D = sp.zeros(C.shape[0], len(us)) if D is None else sp.ImmutableMatrix(D)
+        C = as_matrix(C, what="C", error=ShapeError)
+        D = sp.zeros(C.shape[0], len(us)) if D is None else as_matrix(D, what="D", error=ShapeError)
         ys = _names(output_names, C.shape[0], "y", "output_names")
         for i, y in enumerate(ys):
             right = _combo([(C[i, j], xl[j]) for j in range(n)]
@@ -488,19 +489,19 @@ def state_space_latex(A, B, C=None, D=None, *, E=None,
     \left[\begin{matrix}y\end{matrix}\right] &= \left[\begin{matrix}2\end{matrix}\right] \left[\begin{matrix}x\end{matrix}\right]
     \end{aligned}
     """
-    A, B = sp.ImmutableMatrix(A), sp.ImmutableMatrix(B)
+    A, B = as_matrix(A, what="A", error=ShapeError), as_matrix(B, what="B", error=ShapeError)
     xs = _names(state_names, A.shape[0], "x", "state_names")
     us = _names(input_names, B.shape[1], "u", "input_names")
     left = _vector(xs, dotted=True)
     if E is not None:
-        left = f"{tex(sp.ImmutableMatrix(E))} {left}"
+        left = f"{tex(as_matrix(E, what='E', error=ShapeError))} {left}"
     lines = [f"{left} &= {tex(A)} {_vector(xs)} + {tex(B)} {_vector(us)}"]
     if C is not None:
-        C = sp.ImmutableMatrix(C)
+        C = as_matrix(C, what="C", error=ShapeError)
         ys = _names(output_names, C.shape[0], "y", "output_names")
         right = f"{tex(C)} {_vector(xs)}"
-        if D is not None and not sp.ImmutableMatrix(D).is_zero_matrix:
-            right += f" + {tex(sp.ImmutableMatrix(D))} {_vector(us)}"
+        if D is not None and not as_matrix(D, what="D", error=ShapeError).is_zero_matrix:
+            right += f" + {tex(as_matrix(D, what='D', error=ShapeError))} {_vector(us)}"
         lines.append(f"{_vector(ys)} &= {right}")
     return "\\begin{aligned}\n" + " \\\\\n".join(lines) + "\n\\end{aligned}"
 

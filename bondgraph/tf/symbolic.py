@@ -31,7 +31,7 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from typing import Any, Iterable, Literal, Mapping, Sequence
 
@@ -42,6 +42,8 @@ from sympy.polys.polyclasses import DMP
 from sympy.polys.rings import PolyRing
 
 from .._labels import control_labels
+from ..parameters import exact_value, match_values
+from ..values import as_expr, as_matrix
 from . import _algebra as alg
 from ._terms import numeric_sum, poly_terms, symbolic_sum
 from .errors import (InvalidOptionError, MissingValueError, ParameterValueError, ShapeError,
@@ -60,18 +62,12 @@ METHODS = ("auto", "laplace", "bareiss", "berkowitz")
 # =========================================================================== helpers
 def _as_matrix(M, what: str, *, vector: str = "column") -> sp.ImmutableMatrix:
     """A sympy matrix; a 1-D sequence is a column (``B``) or a row (``C``, ``D``)."""
-    if isinstance(M, sp.MatrixBase):
-        return sp.ImmutableMatrix(M)
-    try:
+    if not isinstance(M, sp.MatrixBase):
         arr = M.tolist() if isinstance(M, np.ndarray) else M
         if isinstance(arr, (list, tuple)) and arr and not isinstance(arr[0], (list, tuple)):
             arr = [[x] for x in arr] if vector == "column" else [list(arr)]
-        if _has_text(arr):  # text is never parsed into expressions
-            raise TypeError("an entry is a string; give numbers or sympy expressions")
-        return sp.ImmutableMatrix(arr)
-    except (TypeError, ValueError, sp.SympifyError) as exc:
-        raise ShapeError(f"{what}: expected a matrix (sympy Matrix, nested list or "
-                         f"numpy array), got {type(M).__name__}: {exc}") from None
+        M = arr
+    return as_matrix(M, what=what, error=ShapeError)
 
 
 def _check_shapes(A, B, C, D, E):
@@ -87,7 +83,7 @@ def _check_shapes(A, B, C, D, E):
         raise ShapeError(f"C: expected {n} columns (A is {n}x{n}), got shape {C.shape}")
     m, p = B.shape[1], C.shape[0]
     if D is None or (not isinstance(D, (sp.MatrixBase, np.ndarray, list, tuple))
-                     and sp.sympify(D) == 0):
+                     and as_expr(D, what="D", error=ShapeError) == 0):
         D = sp.ImmutableMatrix.zeros(p, m)
     elif not isinstance(D, (sp.MatrixBase, np.ndarray, list, tuple)):
         D = sp.ImmutableMatrix([[D]])
@@ -144,42 +140,12 @@ def _check_options(normalize, method):
         raise InvalidOptionError(f"method: expected one of {METHODS}, got {method!r}")
 
 
-def _has_text(obj) -> bool:
-    if isinstance(obj, str):
-        return True
-    return isinstance(obj, (list, tuple)) and any(_has_text(x) for x in obj)
-
-
 def _to_fraction(v, key) -> Fraction:
     """Exact rational value of a parameter (floats read as their decimal repr)."""
-    bad = ParameterValueError(f"values[{key!s}]: expected a finite real number, got {v!r}")
-    if isinstance(v, bool):
-        raise bad
-    if isinstance(v, str):  # a decimal or fraction literal, read by Fraction, never sympify
-        try:
-            return Fraction(v.strip())
-        except (ValueError, ZeroDivisionError):
-            raise bad from None
-    if isinstance(v, (int, np.integer)):
-        return Fraction(int(v))
-    if isinstance(v, Fraction):
-        return v
-    if isinstance(v, (float, np.floating)):
-        x = float(v)
-        if not np.isfinite(x):
-            raise bad
-        return Fraction(repr(x))
-    try:
-        e = sp.sympify(v)
-    except (sp.SympifyError, TypeError, ValueError):
-        raise bad from None
+    e = exact_value(v, str(key))
     if e.is_Rational:
         return Fraction(int(e.p), int(e.q))
-    if e.is_Float and e.is_finite:
-        return Fraction(str(e))
-    if e.is_number and e.is_real and e.is_finite:
-        return Fraction(str(sp.N(e, 40)))
-    raise bad
+    return Fraction(str(sp.N(e, 40)))
 
 
 # ============================================================ conversion to sympy
@@ -492,31 +458,14 @@ def _domain_gens(P: sp.Poly) -> tuple[sp.Expr, ...]:
     return tuple(dom.symbols if hasattr(dom, "symbols") else dom.gens)
 
 
-def _value_map(gens: Sequence[sp.Expr], values: Mapping | None) -> dict:
-    values = dict(values or {})
-    by_name: dict[str, Any] = {}
-    by_expr: dict[sp.Expr, Any] = {}
-    for key, v in values.items():
-        if isinstance(key, str):
-            by_name[key] = v
-        else:
-            by_expr[sp.sympify(key)] = v
-    out = {}
-    missing = []
-    for g in gens:
-        if g in by_expr:
-            out[g] = _to_fraction(by_expr[g], g)
-        elif isinstance(g, sp.Symbol) and g.name in by_name:
-            out[g] = _to_fraction(by_name[g.name], g.name)
-        elif g.is_number:
-            out[g] = _to_fraction(g, g)
-        else:
-            missing.append(str(g))
-    if missing:
-        given = ", ".join(sorted(str(k) for k in values)) or "none"
-        raise MissingValueError(f"values: missing value(s) for {', '.join(missing)} "
-                                f"(given: {given})")
-    return out
+def _value_map(gens: Sequence[sp.Expr], values: Mapping | None,
+               known: Sequence[str] = ()) -> dict:
+    """Exact value of each domain generator, by the package's parameter policy."""
+    params = sorted(set().union(*(g.free_symbols for g in gens)) if gens else set(),
+                    key=lambda x: x.name)
+    given = match_values(params, values, known=known)
+    exact = {p: exact_value(v, p.name) for p, v in given.items()}
+    return {g: _to_fraction(g.xreplace(exact), g) for g in gens}
 
 
 def _poly_str(coeffs: Sequence[sp.Expr], s: sp.Symbol) -> str:
@@ -549,6 +498,8 @@ class SymbolicTF:
     den: sp.Poly
     input_name: str = "u"
     output_name: str = "y"
+    #: names of every parameter of the model definition (see :mod:`bondgraph.parameters`)
+    known_parameters: tuple[str, ...] = field(default=(), compare=False, repr=False)
 
     def __post_init__(self):
         for label in ("num", "den"):
@@ -579,7 +530,10 @@ class SymbolicTF:
         """
         _check_options(normalize, "auto")
         s = sp.Symbol("s") if s is None else s
-        return _tf_from_exprs(sp.sympify(expr), sp.Integer(1), s, input_name, output_name,
+        expr = as_expr(expr, what="expr", error=InvalidOptionError)
+        if not isinstance(s, sp.Symbol):
+            raise InvalidOptionError(f"s: expected a sympy Symbol, got {type(s).__name__} {s!r}")
+        return _tf_from_exprs(expr, sp.Integer(1), s, input_name, output_name,
                               normalize, cancel=cancel)
 
     # -- views --------------------------------------------------------------------
@@ -632,21 +586,55 @@ class SymbolicTF:
         return self.num.is_zero or self.num.degree() <= self.den.degree()
 
     # -- numeric --------------------------------------------------------------------
-    def subs(self, values: Mapping | None = None) -> NumericTF:
+    def subs(self, values: Mapping | None = None, *, partial: bool = False):
         """Numeric transfer function for parameter ``values``.
 
-        ``values`` maps symbols or their names to numbers; keys that are not
-        parameters of this TF are ignored.  Evaluation is exact (floats are
-        read as their decimal representation), so coefficients that vanish,
-        symbolically or at these values, are exactly ``0.0``.
+        ``values`` maps symbols or their names to numbers, matched by the
+        package-wide policy (:mod:`bondgraph.parameters`): an unknown or
+        misspelled name is an error listing the valid ones; names of the
+        model definition that this transfer function does not use are
+        ignored.  Evaluation is exact (floats are read as their decimal
+        representation), so coefficients that vanish, symbolically or at
+        these values, are exactly ``0.0``.
+
+        Parameters
+        ----------
+        values : mapping of parameter name (or Symbol) to number
+        partial : bool, optional
+            With ``True``, parameters may be left without a value and the
+            result is a :class:`SymbolicTF` with the given values substituted
+            exactly; with ``False`` (default) every parameter needs a value
+            and the result is a :class:`NumericTF`.
 
         Raises
         ------
-        MissingValueError
-            If a parameter has no value (the message lists them).
+        ParameterValueError
+            Unknown name or a value that is not a finite real number;
+            :class:`MissingValueError` if a parameter has no value.
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> m, b, s = sp.symbols("m b s")
+        >>> G = SymbolicTF.from_expr(1/(m*s + b), s, normalize="as-derived")
+        >>> G.subs({"m": 2, "b": 0.5}).den
+        (2.0, 0.5)
+        >>> G.subs({"m": 2}, partial=True).expr
+        1/(b + 2*s)
+        >>> G.subs({"mm": 2, "b": 1})
+        Traceback (most recent call last):
+        ...
+        bondgraph.errors.ParameterValueError: unknown parameter 'mm' (did you mean 'm'?); missing m. Valid names: b, m
         """
+        if partial:
+            params = sorted((self.num.as_expr().free_symbols | self.den.as_expr().free_symbols)
+                            - {self.s}, key=lambda x: x.name)
+            given = match_values(params, values, known=self.known_parameters, partial=True)
+            exact = {p: exact_value(v, p.name) for p, v in given.items()}
+            return replace(self, num=sp.Poly(self.num.as_expr().xreplace(exact), self.s),
+                           den=sp.Poly(self.den.as_expr().xreplace(exact), self.s))
         gens = tuple(dict.fromkeys(_domain_gens(self.num) + _domain_gens(self.den)))
-        vm = _value_map(gens, values)
+        vm = _value_map(gens, values, self.known_parameters)
         return NumericTF(tuple(_poly_values(self.num, gens, vm)),
                          tuple(_poly_values(self.den, gens, vm)),
                          self.input_name, self.output_name, str(self.s))
@@ -761,6 +749,8 @@ class TransferMatrix:
     input_names: tuple[str, ...]
     output_names: tuple[str, ...]
     normalize: str = "monic"
+    #: names of every parameter of the model definition (see :mod:`bondgraph.parameters`)
+    known_parameters: tuple[str, ...] = field(default=(), compare=False, repr=False)
     #: exact ring data (converter, den s-dict, numerator s-dicts) for fast entries
     _raw: Any = field(default=None, compare=False, repr=False, hash=False)
 
@@ -790,10 +780,12 @@ class TransferMatrix:
         j = _resolve(inp, self.input_names, "input")
         if self._raw is not None:
             conv, dd, nds = self._raw
-            return _entry(conv, nds[i][j], dd, self.s, self.input_names[j], self.output_names[i],
-                          self.normalize, cancel=True)
-        return _cancel_pair(self.nums[i][j], self.den, self.input_names[j],
-                            self.output_names[i], self.normalize)
+            G = _entry(conv, nds[i][j], dd, self.s, self.input_names[j], self.output_names[i],
+                       self.normalize, cancel=True)
+        else:
+            G = _cancel_pair(self.nums[i][j], self.den, self.input_names[j],
+                             self.output_names[i], self.normalize)
+        return replace(G, known_parameters=self.known_parameters)
 
     def to_latex(self, *, lhs: bool | str = True) -> str:
         r"""``G(s) = \frac{1}{den(s)} [num_ij(s)]`` (rows: outputs, columns: inputs).
@@ -824,7 +816,7 @@ class TransferMatrix:
             for n in row:
                 gen_set |= set(_domain_gens(n))
         gens = tuple(sorted(gen_set, key=sp.default_sort_key))
-        vm = _value_map(gens, values)
+        vm = _value_map(gens, values, self.known_parameters)
         nums = tuple(tuple(tuple(_poly_values(n, gens, vm)) for n in row) for row in self.nums)
         return NumericTransferMatrix(nums, tuple(_poly_values(self.den, gens, vm)),
                                      self.input_names, self.output_names, str(self.s))
@@ -844,7 +836,7 @@ def _cancel_pair(num: sp.Poly, den: sp.Poly, input_name: str, output_name: str,
 def _tf_from_exprs(num: sp.Expr, den: sp.Expr, s: sp.Symbol, input_name: str,
                    output_name: str, normalize: str, *, cancel: bool = True,
                    backend: str | None = None) -> SymbolicTF:
-    n, d = sp.fraction(sp.together(sp.sympify(num) / sp.sympify(den)))
+    n, d = sp.fraction(sp.together(sp.sympify(num, strict=True) / sp.sympify(den, strict=True)))
     if d == 0:
         raise SingularPencilError("den: expected a nonzero expression, got 0")
     ring, params, (pn, pd) = alg.polys_from_exprs([n, d], s, backend=backend)
@@ -1033,5 +1025,5 @@ def transfer_matrix(A, B, C, D=None, *, E=None, input_names: Sequence[str] | Non
     m = len(ins)
     rows = tuple(tuple(Pns[i * m:(i + 1) * m]) for i in range(len(outs)))
     raw = (conv, den, tuple(tuple(r) for r in nums))
-    return TransferMatrix(rows, Pd, ins, outs, normalize, raw)
+    return TransferMatrix(rows, Pd, ins, outs, normalize, _raw=raw)
 
