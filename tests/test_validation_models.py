@@ -91,7 +91,7 @@ def test_hub_arx_recovers_gain_and_pole(hub):
 
 def test_hub_greybox_recovers_jm_and_beq(hub):
     nm, values, _, u, y = hub
-    r = greybox_fit(nm, TimeData(u, y, HUB_DT), free=["Jm", "Beq"], fixed=values,
+    r = greybox_fit(nm, TimeData(u, y, HUB_DT), free=["Jm", "Beq"], values=values,
                     initial={"Jm": 2.0 * values["Jm"], "Beq": 0.5 * values["Beq"]},
                     input="e_in", output="theta")
     for name in ("Jm", "Beq"):
@@ -165,6 +165,6 @@ def test_flexcam_greybox_recovers_modal_stiffness(flex):
     free = ["link.k_1", "link.k_2", "link.k_3"]
     start = {n: f * values[n] for n, f in zip(free, (0.85, 1.2, 0.9))}
     r = greybox_fit(nm, FrequencyData.from_frf(frf, fmin=1.0, fmax=150.0), free=free,
-                    fixed=values, initial=start, input="hub.e_in", output="y")
+                    values=values, initial=start, input="hub.e_in", output="y")
     for n in free:
         assert r.estimates[n] == pytest.approx(values[n], rel=0.01)

@@ -42,7 +42,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..model import Model
 from ..numeric import NumericModel, NumericStateSpace, compile_plant
+from ..errors import MissingValueError
 from ..numeric.errors import NumericError
+from ..parameters import match_values, real_value
 from ..numeric.plant import control_labels
 from ._validation import IdentificationError, check_positive_float, readonly_copy
 from .frf import FRFResult
@@ -497,7 +499,7 @@ class GreyboxResult:
     >>> model = bg.derive(g, outputs={"vel": bg.flow("m")})
     >>> w = np.linspace(0.1, 10.0, 30)
     >>> r = greybox_fit(model, FrequencyData(w, 1.0 / (2.0j * w + 0.5)), free=["b"],
-    ...                 fixed={"m": 2.0}, initial={"b": 1.0})
+    ...                 values={"m": 2.0}, initial={"b": 1.0})
     >>> r.names, r.kind, r.dof, r.rank, r.success, r.output_names
     (('b',), 'frequency', 59, 1, True, ('vel',))
     >>> round(r.estimates["b"], 8), round(r.parameters["m"], 8), np.round(r.fit_percent, 4)
@@ -631,7 +633,7 @@ def _bounds(free: list[str], bounds: Mapping | None, nm: NumericModel,
 
 
 def greybox_fit(model: Model | NumericModel, data: TimeData | FrequencyData | FRFResult, *,
-                free: Sequence[str], fixed: Mapping[str, float] | None = None,
+                free: Sequence[str], values: Mapping[str, float] | None = None,
                 initial: Mapping[str, float] | None = None,
                 bounds: Mapping[str, tuple[float, float]] | None = None,
                 kind: str | None = None, input: Channels = None, output: Channels = None,
@@ -650,10 +652,12 @@ def greybox_fit(model: Model | NumericModel, data: TimeData | FrequencyData | FR
         :meth:`FrequencyData.from_frf` (``H1``, coherence weights).
     free : sequence of str
         Names of the parameters to estimate.
-    fixed : mapping of str to float, optional
-        Values of the other parameters; every model parameter must be free or
-        fixed.  An entry for a free parameter is its starting value unless
-        ``initial`` gives one.
+    values : mapping of str to float, optional
+        Values of the other parameters, matched by the package-wide policy
+        (:mod:`bondgraph.parameters`): every model parameter must be free or
+        given a value; names of the model definition that the derived form
+        does not use are accepted.  An entry for a free parameter is its
+        starting value unless ``initial`` gives one.
     initial : mapping of str to float, optional
         Starting values of free parameters.
     bounds : mapping of str to (float, float), optional
@@ -684,9 +688,11 @@ def greybox_fit(model: Model | NumericModel, data: TimeData | FrequencyData | FR
 
     Raises
     ------
+    ParameterValueError
+        Unknown parameter names (listing the valid ones), parameters neither
+        free nor given a value, values that are not finite real numbers.
     IdentificationError
-        Unknown parameter or channel names, parameters neither free nor
-        fixed, a free parameter without starting value, NaN/inf data, a
+        Unknown channel names, a free parameter without starting value, NaN/inf data, a
         record with no more residuals than free parameters, channel counts
         that do not match the data, or an evaluation of the model that fails.
 
@@ -704,7 +710,7 @@ def greybox_fit(model: Model | NumericModel, data: TimeData | FrequencyData | FR
     >>> w = np.linspace(0.5, 5.0, 40)
     >>> H = 1.0 / (2.0 * (1j * w) ** 2 + 0.3 * (1j * w) + 8.0)
     >>> r = greybox_fit(model, FrequencyData(w, H), free=["m", "b"],
-    ...                 fixed={"k": 8.0}, initial={"m": 1.0, "b": 1.0})
+    ...                 values={"k": 8.0}, initial={"m": 1.0, "b": 1.0})
     >>> round(r.estimates["m"], 8), round(r.estimates["b"], 8)
     (2.0, 0.3)
     """
@@ -718,14 +724,18 @@ def greybox_fit(model: Model | NumericModel, data: TimeData | FrequencyData | FR
     if len(set(free)) != len(free):
         raise IdentificationError(f"free: a parameter is listed twice in {free!r}")
     _unknown(free, known, "free")
-    fixed_v = _name_map(fixed, "fixed")
+    where = f"model {nm.model.name!r}: "
+    given = match_values(nm.parameters, values, known=nm.model.known_parameters, partial=True,
+                         where=where)
+    fixed_v = {p.name: real_value(v, p.name, where) for p, v in given.items()}
     initial_v = _name_map(initial, "initial")
-    _unknown(fixed_v, known, "fixed")
     _unknown(initial_v, set(free), "initial (free parameters)")
-    missing = sorted(n for n in known if n not in fixed_v and n not in free)
+    missing = [n for n in nm.parameter_names if n not in fixed_v and n not in free]
     if missing:
-        raise IdentificationError(
-            f"fixed: no value for {', '.join(missing)} (every parameter must be free or fixed)")
+        raise MissingValueError(
+            f"{where}values: missing {', '.join(missing)} (every parameter must be free or "
+            f"given a value). Valid names: {', '.join(sorted(nm.model.known_parameters))}",
+            missing=tuple(missing))
     no_start = [n for n in free if n not in initial_v and n not in fixed_v]
     if no_start:
         raise IdentificationError(f"initial: no starting value for {', '.join(no_start)}")
