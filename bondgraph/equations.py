@@ -493,6 +493,12 @@ class _Deriver:
                                 model=self.flat.name, states=self.state_of)
         except SingularLoopError as err:
             err.storage = tuple(dict.fromkeys(err.storage + self._storage_near(err.block)))
+            var_of = {sym: v for v, sym in self.broken.items()}
+            bonds = [f"{u.name} is the {'effort' if var_of[u] % 2 == 0 else 'flow'} of bond "
+                     f"{self.bonds[var_of[u] // 2]}" for u in err.block
+                     if u in var_of and var_of[u] // 2 < len(self.bonds)]
+            if bonds and err.args:
+                err.args = (f"{err.args[0]}; {'; '.join(bonds)}",)
             raise
 
     def _storage_near(self, block) -> tuple[str, ...]:

@@ -165,8 +165,10 @@ def _check_numbers(value: sympy.Expr, *, owner: str, what: str) -> None:
             if not math.isfinite(float(atom)):
                 bad = True
     if bad:
+        text = sympy.sstr(value.evalf(4) if value.is_number and not value.has(sympy.I) else value)
+        text = text if len(text) <= 60 else text[:57] + "..."
         raise ParameterError(
-            f"{owner}: {what} {sympy.sstr(value)[:40]} is not a finite real value (nan, infinity or a complex "
+            f"{owner}: {what} {text} is not a finite real value (nan, infinity, beyond the float range or a complex "
             "number); parameters are finite reals (negative values are allowed for active "
             "elements)"
         )

@@ -1,0 +1,623 @@
+"""The bad-input catalogue: each wrong input, the error it gets, the culprit its message names.
+
+``tests/test_bad_input_catalogue.py`` runs every case (error class, message
+naming the culprit, nothing written in the output directory) and checks
+that ``docs/errors.md`` is this catalogue rendered.  After changing a case
+or a message, regenerate the page::
+
+    python tests/bad_inputs.py docs/errors.md
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Callable
+
+import numpy as np
+import sympy
+
+import bondgraph as bg
+from bondgraph.beam import BeamParameterError
+from bondgraph.identification import IdentificationError
+from bondgraph.numeric import NumericError, SimulationError
+from bondgraph.tf import InvalidOptionError, ShapeError, UnknownSignalError
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@dataclass(frozen=True)
+class Dirs:
+    """``inp``: where a case puts the files it reads; ``out``: where output is asked for."""
+
+    inp: Path
+    out: Path
+
+
+@dataclass(frozen=True)
+class Case:
+    id: str
+    area: str
+    input: str
+    error: type
+    match: str
+    call: Callable[[Dirs], object]
+
+
+CASES: list[Case] = []
+
+
+def case(area: str, input: str, error: type, match: str):
+    """Register the decorated function ``f(dirs)`` as a catalogue case."""
+    def register(fn):
+        CASES.append(Case(fn.__name__, area, input, error, match, fn))
+        return fn
+    return register
+
+
+class CliError(bg.BondGraphError):
+    """Stands for a command-line failure in the catalogue: exit status and stderr."""
+
+
+def cli(*argv: str) -> None:
+    """Run the command line in-process; a failure becomes :class:`CliError` (stderr text)."""
+    import contextlib
+    import io
+
+    from bondgraph.cli import main
+
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        try:
+            code = main(list(argv))
+        except SystemExit as exc:
+            code = exc.code
+    text = err.getvalue()
+    if "Traceback" in text:
+        raise AssertionError(f"traceback from bondgraph {' '.join(argv)}:\n{text}")
+    if code not in (0, None):
+        raise CliError(f"exit {code}: {text.strip()}")
+
+
+# ------------------------------------------------------------------ helpers
+def msd(name: str = "msd") -> bg.BondGraph:
+    g = bg.BondGraph(name)
+    g.add(bg.Se("F"), bg.One("v"), bg.I("m"), bg.R("b"), bg.C("c"))
+    for t, h in [("F", "v"), ("v", "m"), ("v", "b"), ("v", "c")]:
+        g.connect(t, h)
+    return g
+
+
+def msd_model() -> bg.Model:
+    return bg.derive(msd(), outputs={"x": bg.displacement("c")})
+
+
+VALUES = {"m": 2.0, "b": 6.0, "c": 0.25}
+
+
+def model_file(dirs: Dirs, body: str, name: str = "model.py") -> str:
+    path = dirs.inp / name
+    path.write_text(body, encoding="utf-8")
+    return str(path)
+
+
+MSD_FILE = """\
+import bondgraph as bg
+
+def model():
+    g = bg.BondGraph("msd")
+    g.add(bg.Se("F"), bg.One("v"), bg.I("m"), bg.R("b"), bg.C("c"))
+    for t, h in [("F", "v"), ("v", "m"), ("v", "b"), ("v", "c")]:
+        g.connect(t, h)
+    return bg.ModelDefinition(g, outputs={"x": bg.displacement("c")},
+                              parameters={"m": 2.0, "b": 6.0, "c": 0.25})
+"""
+
+
+# ------------------------------------------------------------------ model building
+@case("building", 'I("m\\n") (name with a trailing newline)', bg.ModelStructureError, r"'m\\n'")
+def name_trailing_newline(d):
+    bg.I("m\n")
+
+
+@case("building", 'BondGraph("g\\n")', bg.ModelStructureError, r"'g\\n'")
+def graph_name_newline(d):
+    bg.BondGraph("g\n")
+
+
+@case("building", 'R("lambda") (a Python keyword)', bg.ModelStructureError, r"'lambda'")
+def keyword_name(d):
+    bg.R("lambda")
+
+
+@case("building", 'I("a.b") (dot in an element name)', bg.ModelStructureError, r"'a\.b'")
+def dotted_element_name(d):
+    bg.I("a.b")
+
+
+@case("building", "I(42) (name not a string)", bg.ModelStructureError, r"42")
+def name_not_string(d):
+    bg.I(42)
+
+
+@case("building", "two elements named R", bg.DuplicateNameError, r"'R' is already used by element R:R")
+def duplicate_name(d):
+    g = bg.BondGraph("g")
+    g.add(bg.R("R"))
+    g.add(bg.C("R"))
+
+
+@case("building", "connect to an element not in the graph", bg.UnknownElementError, r"'nothing'")
+def connect_unknown(d):
+    g = bg.BondGraph("g")
+    g.add(bg.One("j"))
+    g.connect("j", "nothing")
+
+
+@case("building", "bond from a junction to itself", bg.ModelStructureError, r"bond from 'j' to itself")
+def self_bond(d):
+    g = bg.BondGraph("g")
+    g.add(bg.One("j"))
+    g.connect("j", "j")
+
+
+@case("building", "second bond on I:m", bg.ModelStructureError, r"I:m takes 1 bond")
+def inertia_two_bonds(d):
+    g = msd()
+    g.add(bg.One("k"))
+    g.connect("m", "k")
+
+
+@case("building", "third bond on TF:n", bg.ModelStructureError, r"TF:n takes 2 bonds")
+def transformer_three_bonds(d):
+    g = bg.BondGraph("g")
+    g.add(bg.One("a"), bg.One("b"), bg.One("c"), bg.TF("n", 2))
+    g.connect("a", "n")
+    g.connect("n", "b")
+    g.connect("n", "c")
+
+
+@case("building", "both bonds of TF:n pointing into it", bg.ModelStructureError,
+      r"TF:n already has bond 1 pointing into it")
+def transformer_same_direction(d):
+    g = bg.BondGraph("g")
+    g.add(bg.One("a"), bg.One("b"), bg.TF("n", 2))
+    g.connect("a", "n")
+    g.connect("b", "n")
+
+
+@case("building", "C:C added but never connected", bg.ModelStructureError, r"C:C has 0 bonds; expected 1")
+def unconnected_storage(d):
+    g = msd()
+    g.add(bg.C("C"))
+    bg.derive(g)
+
+
+@case("building", "sub-model port left dangling", bg.PortError, r"port 'motor\.shaft'.*dangling")
+def dangling_port(d):
+    sub = bg.BondGraph("motor")
+    sub.add(bg.Se("V"), bg.One("i"), bg.R("Ra"), bg.Port("shaft"))
+    for t, h in [("V", "i"), ("i", "Ra"), ("i", "shaft")]:
+        sub.connect(t, h)
+    top = bg.BondGraph("top")
+    top.add(sub)
+    bg.derive(top)
+
+
+@case("building", "connect to a sub-model element that is not a port", bg.PortError,
+      r"'motor\.Ra' is not a port of sub-model 'motor'")
+def not_a_port(d):
+    sub = bg.BondGraph("motor")
+    sub.add(bg.Se("V"), bg.One("i"), bg.R("Ra"), bg.Port("shaft"))
+    for t, h in [("V", "i"), ("i", "Ra"), ("i", "shaft")]:
+        sub.connect(t, h)
+    top = bg.BondGraph("top")
+    top.add(sub, bg.I("J"))
+    top.connect("motor.Ra", "J")
+
+
+# ------------------------------------------------------------------ parameters of elements
+@case("parameters", "I('m', 0) (zero inertance)", bg.ParameterError, r"I:m: parameter is 0")
+def zero_inertance(d):
+    bg.I("m", 0)
+
+
+@case("parameters", "TF('n', 0) (zero modulus)", bg.ParameterError, r"TF:n: modulus is 0")
+def zero_modulus(d):
+    bg.TF("n", 0)
+
+
+@case("parameters", "C('c', sympy.oo)", bg.ParameterError, r"C:c: parameter oo is not a finite real")
+def infinite_compliance(d):
+    bg.C("c", sympy.oo)
+
+
+@case("parameters", "R('b', sympy.nan)", bg.ParameterError, r"R:b: parameter nan")
+def nan_resistance(d):
+    bg.R("b", sympy.nan)
+
+
+@case("parameters", "R('b', sympy.zoo)", bg.ParameterError, r"R:b: parameter zoo")
+def zoo_resistance(d):
+    bg.R("b", sympy.zoo)
+
+
+@case("parameters", "R('b', sympy.I) (imaginary)", bg.ParameterError, r"R:b: parameter I is not a finite real")
+def imaginary_resistance(d):
+    bg.R("b", sympy.I)
+
+
+@case("parameters", "I('m', 1e400) (overflowing float)", bg.ParameterError, r"I:m: parameter must be finite, got inf")
+def overflow_inertance(d):
+    bg.I("m", 1e400)
+
+
+@case("parameters", "I('m', sympy.Float('1e400'))", bg.ParameterError, r"I:m: parameter 1\.000e\+400 is not a finite real value.*beyond the float range")
+def overflow_sympy_float(d):
+    bg.I("m", sympy.Float("1e400"))
+
+
+@case("parameters", "I('m', 1+2j) (complex)", bg.ParameterError, r"I:m: parameter must be a number.*got complex")
+def complex_inertance(d):
+    bg.I("m", 1 + 2j)
+
+
+@case("parameters", "R('b', True)", bg.ParameterError, r"R:b: parameter .*bool")
+def bool_parameter(d):
+    bg.R("b", True)
+
+
+@case("parameters", "R('R1', '2*x +') (text that is not a name)", bg.ParameterError,
+      r"R:R1.*'2\*x \+' is not a parameter name")
+def text_parameter(d):
+    bg.R("R1", "2*x +")
+
+
+@case("parameters", "R('b', bg.q) (law variable as a parameter)", bg.ParameterError, r"R:b: parameter q uses the law variable")
+def law_variable_parameter(d):
+    bg.R("b", bg.q)
+
+
+@case("parameters", "C('spring', law=k*bg.p) (law in the other variable)", bg.LawError, r"C:spring.*uses p")
+def law_wrong_variable(d):
+    bg.C("spring", law=sympy.Symbol("k") * bg.p)
+
+
+@case("parameters", "parameter named 'p_m' beside I('m')", bg.NameClashError, r"'p_m'")
+def parameter_clashes_with_state(d):
+    g = bg.BondGraph("g")
+    g.add(bg.Se("F"), bg.One("v"), bg.I("m"), bg.R("b", "p_m"))
+    for t, h in [("F", "v"), ("v", "m"), ("v", "b")]:
+        g.connect(t, h)
+    bg.derive(g)
+
+
+@case("parameters", "parameter named 't' (time)", bg.NameClashError, r"'t'")
+def parameter_named_time(d):
+    g = bg.BondGraph("g")
+    g.add(bg.Se("F"), bg.One("v"), bg.I("m"), bg.R("b", "t"))
+    for t, h in [("F", "v"), ("v", "m"), ("v", "b")]:
+        g.connect(t, h)
+    bg.derive(g)
+
+
+@case("parameters", "Se('p_m') beside I('m') (input named like a state)", bg.NameClashError, r"'p_m'")
+def input_clashes_with_state(d):
+    g = bg.BondGraph("g")
+    g.add(bg.Se("p_m"), bg.One("v"), bg.I("m"))
+    g.connect("p_m", "v")
+    g.connect("v", "m")
+    bg.derive(g)
+
+
+# ------------------------------------------------------------------ causality and outputs
+@case("causality", "two Sf on one 1-junction", bg.CausalityConflictError, r"Sf:F2.*1:j")
+def two_flow_sources(d):
+    g = bg.BondGraph("g")
+    g.add(bg.Sf("F1"), bg.Sf("F2"), bg.One("j"), bg.R("R"))
+    for t, h in [("F1", "j"), ("F2", "j"), ("j", "R")]:
+        g.connect(t, h)
+    bg.derive(g)
+
+
+@case("causality", "two Se on one 0-junction", bg.CausalityConflictError, r"Se:E2")
+def two_effort_sources(d):
+    g = bg.BondGraph("g")
+    g.add(bg.Se("E1"), bg.Se("E2"), bg.Zero("j"), bg.R("R"))
+    for t, h in [("E1", "j"), ("E2", "j"), ("j", "R")]:
+        g.connect(t, h)
+    bg.derive(g)
+
+
+@case("causality", "circuit drawn with a 0-junction for ground too (singular loop)",
+      bg.AlgebraicLoopError, r"loop in f_4 is singular.*remove the ground node's junction.*bond 4: a -> i")
+def singular_ground_loop(d):
+    g = bg.BondGraph("floating")
+    g.add(bg.Se("V"), bg.One("s"), bg.Zero("a"), bg.Zero("gnd"), bg.One("i"), bg.R("R"))
+    for t, h in [("V", "s"), ("s", "a"), ("gnd", "s"), ("a", "i"), ("i", "gnd"), ("i", "R")]:
+        g.connect(t, h)
+    bg.derive(g, outputs={"e": bg.effort("a")})
+
+
+@case("outputs", "output on an element that does not exist", bg.OutputError, r"no element 'Jx'")
+def output_unknown_element(d):
+    bg.derive(msd(), outputs={"y": bg.flow("Jx")})
+
+
+@case("outputs", "output on bond 9 of a 4-bond graph", bg.OutputError, r"bonds 1\.\.4; got bond 9")
+def output_unknown_bond(d):
+    bg.derive(msd(), outputs={"y": bg.effort(9)})
+
+
+@case("outputs", "output given as a string", bg.OutputError, r"must be a signal expression")
+def output_string(d):
+    bg.derive(msd(), outputs={"y": "p_m/m"})
+
+
+# ------------------------------------------------------------------ parameter values
+@case("values", "plant({... 'bb': 6.0}) (misspelled name)", bg.ParameterValueError,
+      r"unknown parameter 'bb' \(did you mean 'b'\?\).*Valid names: b, c, m")
+def plant_misspelled(d):
+    bg.compile_plant(msd_model()).plant({"m": 2.0, "bb": 6.0, "c": 0.25})
+
+
+@case("values", "plant() without a value for c", bg.MissingValueError, r"missing c")
+def plant_missing(d):
+    bg.compile_plant(msd_model()).plant({"m": 2.0, "b": 6.0})
+
+
+@case("values", "plant({'m': nan, ...})", bg.ParameterValueError, r"parameter 'm' must be a finite real number; got nan")
+def plant_nan(d):
+    bg.compile_plant(msd_model()).plant({**VALUES, "m": float("nan")})
+
+
+@case("values", "plant({'m': '2'}) (text)", bg.ParameterValueError, r"parameter 'm'.*text is never parsed")
+def plant_text(d):
+    bg.compile_plant(msd_model()).plant({**VALUES, "m": "2"})
+
+
+@case("values", "plant({'m': 10**400})", bg.ParameterValueError, r"parameter 'm'.*too large")
+def plant_huge_int(d):
+    bg.compile_plant(msd_model()).plant({**VALUES, "m": 10 ** 400})
+
+
+@case("values", "plant({'m': 0.0}) (an inertia of zero)", bg.ParameterValueError, r"I:m \(m = 0\) divides")
+def plant_zero_divisor(d):
+    bg.compile_plant(msd_model()).plant({**VALUES, "m": 0.0})
+
+
+@case("values", "batch({'m': [1, 2], 'b': [1, 2, 3], ...})", bg.ParameterValueError, r"same length; got b: 3, m: 2")
+def batch_lengths(d):
+    bg.compile_plant(msd_model()).batch({"m": [1.0, 2.0], "b": [1.0, 2.0, 3.0], "c": 0.25})
+
+
+@case("values", "SymbolicTF.subs({'mm': 2, ...})", bg.ParameterValueError, r"unknown parameter 'mm' \(did you mean 'm'\?\)")
+def tf_subs_misspelled(d):
+    msd_model().transfer_function("F", "x").subs({"mm": 2.0, "b": 6.0, "c": 0.25})
+
+
+@case("values", "SymbolicStateSpace.subs({'Rmm': 1})", bg.ParameterValueError, r"unknown parameter 'Rmm'")
+def ss_subs_unknown(d):
+    msd_model().state_space().subs({"Rmm": 1.0})
+
+
+@case("values", "TransferMatrix.subs({'c': 1j, ...})", bg.ParameterValueError, r"parameter 'c'.*complex")
+def tm_subs_complex(d):
+    msd_model().transfer_matrix().subs({**VALUES, "c": 1j})
+
+
+@case("values", "plant([2.0, 6.0, 0.25]) (a list, not a mapping)", bg.ParameterValueError, r"must be a mapping.*got list")
+def plant_list(d):
+    bg.compile_plant(msd_model()).plant([2.0, 6.0, 0.25])
+
+
+@case("values", "plant({1: 2.0}) (key neither a name nor a Symbol)", bg.ParameterValueError, r"keys must be sympy Symbols.*got int 1")
+def plant_int_key(d):
+    bg.compile_plant(msd_model()).plant({1: 2.0})
+
+
+# ------------------------------------------------------------------ symbolic forms
+@case("symbolic", "state_space() of a nonlinear model", bg.NonlinearModelError, r"model 'duffing': state equation 1 .* is nonlinear in q_k")
+def nonlinear_state_space(d):
+    g = bg.BondGraph("duffing")
+    g.add(bg.Se("F"), bg.One("v"), bg.I("m"), bg.C("k", law=bg.q ** 3))
+    for t, h in [("F", "v"), ("v", "m"), ("v", "k")]:
+        g.connect(t, h)
+    bg.derive(g).state_space()
+
+
+@case("symbolic", "linearize about a point that is not an equilibrium", bg.NonlinearModelError,
+      r"not an equilibrium: dp_m/dt")
+def linearize_not_equilibrium(d):
+    msd_model().linearize({"p_m": 0, "q_c": 1}, {"F": 0})
+
+
+@case("symbolic", "linearize without a value for state q_c", bg.NonlinearModelError, r"states q_c")
+def linearize_missing_state(d):
+    msd_model().linearize({"p_m": 0}, {"F": 0})
+
+
+@case("symbolic", "transfer_function('F', 'z') (unknown output)", UnknownSignalError, r"'z' is not an output.*'x'")
+def tf_unknown_output(d):
+    msd_model().transfer_function("F", "z")
+
+
+@case("symbolic", "transfer_function(..., normalize='unit')", InvalidOptionError, r"normalize: expected one of")
+def tf_bad_normalize(d):
+    msd_model().transfer_function("F", "x", normalize="unit")
+
+
+@case("symbolic", "tf.transfer_function(A, B, C, D='1')", ShapeError, r"D: .*string.*never parsed")
+def tf_text_d(d):
+    from bondgraph.tf import transfer_function
+    transfer_function([[-1]], [[1]], [[1]], D="1")
+
+
+@case("symbolic", "SymbolicTF.from_expr('1/(s+1)')", InvalidOptionError, r"expr: .*string")
+def tf_from_text(d):
+    from bondgraph.tf import SymbolicTF
+    SymbolicTF.from_expr("1/(s+1)")
+
+
+@case("symbolic", "tf.transfer_function with a 2x3 A", ShapeError, r"A: expected a square matrix")
+def tf_nonsquare(d):
+    from bondgraph.tf import transfer_function
+    transfer_function([[1, 2, 3], [4, 5, 6]], [[1], [1]], [[1, 1]])
+
+
+@case("symbolic", "beam.characteristic_expression(mass_ratio='0.1')", BeamParameterError, r"mass_ratio: .*string")
+def beam_text_ratio(d):
+    from bondgraph.beam import characteristic_expression
+    characteristic_expression("clamped-free", mass_ratio="0.1")
+
+
+@case("symbolic", "beam.characteristic_expression('free-free')", BeamParameterError, r"boundary.*'free-free'")
+def beam_bad_boundary(d):
+    from bondgraph.beam import characteristic_expression
+    characteristic_expression("free-free")
+
+
+# ------------------------------------------------------------------ numeric plants and files
+@case("numeric", "compile_plant('msd') (not a Model)", NumericError, r"expected a bondgraph Model.*got str")
+def compile_not_model(d):
+    bg.compile_plant("msd")
+
+
+@case("export", "export .mat to a directory that does not exist", bg.ExportError, r"cannot write '.*plant\.mat': the directory '.*missing' does not exist")
+def export_missing_dir(d):
+    from bondgraph.export import export_mat
+    P = bg.compile_plant(msd_model()).plant(VALUES)
+    export_mat(P, d.out / "missing" / "plant.mat")
+
+
+@case("export", "export to an unknown format '.xlsx'", bg.ExportError, r"cannot tell the format of '.*plant\.xlsx'")
+def export_unknown_format(d):
+    from bondgraph.export import export
+    P = bg.compile_plant(msd_model()).plant(VALUES)
+    export(P, d.out / "plant.xlsx")
+
+
+@case("export", "load_json of a file with 'states': null", bg.ExportError, r"plant\.json': \"states\" must be a list of names; got NoneType")
+def load_json_null_states(d):
+    from bondgraph.export import export_json, load_json
+    P = bg.compile_plant(msd_model()).plant(VALUES)
+    src = d.inp / "plant.json"
+    export_json(P, src)
+    doc = json.loads(src.read_text())
+    doc["states"] = None
+    src.write_text(json.dumps(doc))
+    load_json(src)
+
+
+@case("export", "load_json of a file with a duplicate key", bg.ExportError, r"plant\.json': the key 'format' appears twice")
+def load_json_duplicate_key(d):
+    from bondgraph.export import load_json
+    src = d.inp / "plant.json"
+    src.write_text('{"format": "bondgraph-plant", "format": "x"}')
+    load_json(src)
+
+
+# ------------------------------------------------------------------ identification
+@case("identification", "prbs(1) (order below the minimum)", IdentificationError, r"order: expected an integer in \[2, 32\], got 1")
+def prbs_low_order(d):
+    from bondgraph.identification import prbs
+    prbs(1)
+
+
+@case("identification", "TimeData with a NaN sample", IdentificationError, r"y: expected finite values, found 1 NaN")
+def timedata_nan(d):
+    from bondgraph.identification import TimeData
+    y = np.ones(10)
+    y[3] = np.nan
+    TimeData(np.ones(10), y, 0.01)
+
+
+@case("identification", "greybox_fit values with a misspelled name", bg.ParameterValueError,
+      r"unknown parameter 'cc' \(did you mean 'c'\?\)")
+def greybox_misspelled(d):
+    from bondgraph.identification import FrequencyData, greybox_fit
+    w = np.linspace(0.5, 5.0, 20)
+    greybox_fit(msd_model(), FrequencyData(w, 1.0 / (1j * w + 1.0)), free=["m"],
+                values={"m": 2.0, "b": 6.0, "cc": 0.25})
+
+
+@case("identification", "greybox_fit free=['mass']", IdentificationError, r"unknown parameter.*mass")
+def greybox_unknown_free(d):
+    from bondgraph.identification import FrequencyData, greybox_fit
+    w = np.linspace(0.5, 5.0, 20)
+    greybox_fit(msd_model(), FrequencyData(w, 1.0 / (1j * w + 1.0)), free=["mass"], values=VALUES)
+
+
+# ------------------------------------------------------------------ model files
+@case("model file", "load_model of a file that does not exist", bg.ModelFileError, r"nope\.py")
+def load_missing_model(d):
+    bg.load_model(str(d.inp / "nope.py"))
+
+
+@case("model file", "load_model of a file with a syntax error", bg.ModelFileError, r"model\.py")
+def load_syntax_error(d):
+    bg.load_model(model_file(d, "def model(:\n"))
+
+
+@case("model file", "load_model of a file that calls sys.exit(0)", bg.ModelFileError, r"model\.py.*exit")
+def load_sys_exit(d):
+    bg.load_model(model_file(d, "import sys\nsys.exit(0)\n"))
+
+
+def render(results: list[tuple[Case, str]]) -> str:
+    """The catalogue as a Markdown page (``docs/errors.md``)."""
+    lines = ["# Errors: the bad-input catalogue", "",
+             "Every wrong input below is refused with an error derived from",
+             "`bondgraph.BondGraphError` whose message names the culprit, and no output file is",
+             "written.  Generated from `tests/bad_inputs.py` (regenerate with",
+             "`python tests/bad_inputs.py docs/errors.md`); `tests/test_bad_input_catalogue.py`",
+             "runs every case and fails if this page is out of date.", "",
+             f"{len(results)} cases.", ""]
+    area = None
+    for c, message in results:
+        if c.area != area:
+            area = c.area
+            lines += ["", f"## {area}", "", "| input | error | message |", "|---|---|---|"]
+        msg = message.replace("|", "\\|").replace("\n", " ")
+        inp = c.input.replace("|", "\\|")
+        lines.append(f"| {inp} | `{c.error.__name__}` | {msg} |")
+    return "\n".join(lines) + "\n"
+
+
+def run(c: Case, dirs: Dirs) -> str:
+    """Run one case; return its normalized message (raises AssertionError if it does not fail)."""
+    try:
+        c.call(dirs)
+    except bg.BondGraphError as exc:
+        if not isinstance(exc, c.error):
+            raise AssertionError(f"{c.id}: expected {c.error.__name__}, got "
+                                 f"{type(exc).__name__}: {exc}") from exc
+        text = str(exc)
+        for path, label in ((dirs.inp, "<in>"), (dirs.out, "<out>")):
+            text = text.replace(str(path), label)
+        return text
+    raise AssertionError(f"{c.id}: no error raised")
+
+
+def generate() -> str:
+    import tempfile
+    import warnings
+
+    results = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for c in CASES:
+            with tempfile.TemporaryDirectory() as a, tempfile.TemporaryDirectory() as b:
+                results.append((c, run(c, Dirs(Path(a), Path(b)))))
+    return render(results)
+
+
+if __name__ == "__main__":
+    text = generate()
+    if len(sys.argv) > 1:
+        Path(sys.argv[1]).write_text(text, encoding="utf-8")
+    else:
+        sys.stdout.write(text)
