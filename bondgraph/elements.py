@@ -43,6 +43,7 @@ q**3 + 3*q
 from __future__ import annotations
 
 import keyword
+import numbers
 import re
 from dataclasses import dataclass, field, replace
 from typing import Callable, ClassVar, Optional, Union
@@ -88,12 +89,32 @@ def check_name(name: object, what: str) -> str:
     return name
 
 
+def _call_law(fn: Callable, own: LawVariable, *, owner: str, what: str) -> sympy.Expr:
+    """Call a callable law once with the sympy symbol ``own``; failures become :class:`LawError`.
+
+    An exception from the callable is chained (``raise ... from exc``); a
+    result that is not a sympy expression or a real number is refused.
+    """
+    name = getattr(fn, "__name__", type(fn).__name__)
+    hint = (f"a callable law is called once with the sympy symbol bondgraph.{own} and must return "
+            f"a sympy expression in it (use sympy functions such as sympy.log, not math.log)")
+    try:
+        value = fn(own)
+    except Exception as exc:
+        raise LawError(f"{owner}: the {what} law callable {name} raised {type(exc).__name__}: "
+                       f"{exc}; {hint}") from exc
+    if isinstance(value, bool) or not isinstance(value, (sympy.Expr, numbers.Real)):
+        raise LawError(f"{owner}: the {what} law callable {name} returned {type(value).__name__} "
+                       f"{str(value)[:40]!r}; {hint}")
+    return value
+
+
 def _law(value: LawLike, own: LawVariable, *, owner: str, what: str) -> Optional[sympy.Expr]:
     """Validate a constitutive law written in the element's own variable."""
     if value is None:
         return None
     if callable(value) and not isinstance(value, sympy.Basic):
-        value = value(own)
+        value = _call_law(value, own, owner=owner, what=what)
     expr = to_expr(value, owner=owner, what=f"{what} law", law=True)
     if expr is None:  # pragma: no cover - value is not None here
         return None
@@ -335,7 +356,13 @@ class OnePort(Element):
         Only this element's own equation is solved, and only when exactly one
         solution exists; otherwise the user is asked for the inverse law.
         """
-        sols = sympy.solve(sympy.Eq(expr, new_var), var, dict=False)
+        try:
+            sols = sympy.solve(sympy.Eq(expr, new_var), var, dict=False)
+        except (NotImplementedError, ValueError, TypeError) as exc:
+            raise LawError(
+                f"{self.label()}: its causality needs the inverse of the {name} law {expr}, "
+                f"which sympy cannot solve for {var} ({str(exc).strip()}); pass the inverse law "
+                "explicitly (inverse=...)") from exc
         if len(sols) != 1:
             raise LawError(
                 f"{self.label()}: its causality needs the inverse of the {name} law "
