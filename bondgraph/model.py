@@ -118,7 +118,8 @@ class Model:
         ignored by every call that takes values (:mod:`bondgraph.parameters`).
         """
         names = {p.name for p in self.parameters} | set(self.declared_parameters)
-        for el in self.augmented.flat.elements:
+        elements = self.augmented.flat.elements if self.augmented is not None else ()
+        for el in elements:
             for fld in dataclasses.fields(el):
                 val = getattr(el, fld.name)
                 if isinstance(val, sympy.Basic):

@@ -1,5 +1,6 @@
 """FLEXCAM and the hub with two appendages, against beam and rigid-body theory."""
 
+import dataclasses
 import sys
 from pathlib import Path
 
@@ -21,6 +22,8 @@ def numeric_tf(model, params, inp, out):
     ss = model.state_space()
     G = transfer_function(ss.A, ss.B, ss.C, ss.D, input=inp, output=out,
                           input_names=ss.input_names, output_names=ss.output_names)
+    # one output's TF uses a subset of the model's parameters: declare the rest as known
+    G = dataclasses.replace(G, known_parameters=ss.known_parameters)
     return G, G.subs({p: params[p.name] for p in model.parameters})
 
 

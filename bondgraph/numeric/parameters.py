@@ -15,7 +15,7 @@ array([0.5, 2. ])
 >>> resolve_parameters((La, Ra), {"Ra": 2, "Rb": 1})
 Traceback (most recent call last):
 ...
-bondgraph.errors.ParameterValueError: unknown parameter 'Rb' (did you mean 'Ra'?); missing La. Valid names: La, Ra
+bondgraph.errors.ParameterValueError: unknown parameter 'Rb'; missing La. Valid names: La, Ra
 """
 
 from __future__ import annotations

@@ -538,7 +538,7 @@ class NumericModel(_CompiledModel):
 def _elements_using(model: Model, names: Sequence[str]) -> str:
     """``"I:La (La = 0)"`` for the elements whose parameters use one of ``names``."""
     found = []
-    for el in model.augmented.flat.elements:
+    for el in (model.augmented.flat.elements if model.augmented is not None else ()):
         for fld in dataclasses.fields(el):
             val = getattr(el, fld.name)
             if isinstance(val, sympy.Basic):
