@@ -135,6 +135,10 @@ def test_definition_parameter_unused_by_derived_form_is_accepted():
     model.transfer_function(0, 0).subs(values)
     model.state_space().subs(values)
     bg.compile_plant(model).batch(values)
+    res = bg.simulate(model, values, (0.0, 1e-3))   # zero input, zero state: stays at rest
+    assert np.all(res.x == 0.0)
+    with pytest.raises(bg.ParameterValueError, match="unknown parameter 'J_ll'"):
+        bg.simulate(model, {**values, "J_ll": 1.0}, (0.0, 1e-3))
     with pytest.raises(bg.ParameterValueError, match="unknown parameter 'J_ll'"):
         bg.compile_plant(model).plant({**values, "J_ll": 1.0})
 
