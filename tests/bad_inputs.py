@@ -480,6 +480,57 @@ def beam_bad_boundary(d):
     characteristic_expression("free-free")
 
 
+# ------------------------------------------------------------------ simulation
+def damped(law) -> bg.Model:
+    g = bg.BondGraph("damped")
+    g.add(bg.Se("F"), bg.One("v"), bg.I("m"), bg.C("c"), law)
+    for t, h in [("F", "v"), ("v", "m"), ("v", "c"), ("v", law.name)]:
+        g.connect(t, h)
+    return bg.derive(g)
+
+
+@case("simulation", "a damper law log(f) driven to f < 0 (NaN derivative)", SimulationError,
+      r"derivative of state p_m is nan .* at t = 0")
+def simulate_nan_derivative(d):
+    model = damped(bg.R("Rf", law=sympy.log(bg.f)))
+    bg.simulate(model, {"m": 1.0, "c": 0.25}, (0.0, 10.0), {"p_m": -1.0, "q_c": 0.0}, u=[0.0])
+
+
+@case("simulation", "t_span=(0, nan)", NumericError, r"t_span must be two finite numbers.*got \(0, nan\)")
+def simulate_nan_span(d):
+    bg.simulate(msd_model(), VALUES, (0.0, float("nan")))
+
+
+@case("simulation", "method='RK54' (misspelled)", NumericError, r"method must be one of RK45, .*got 'RK54'")
+def simulate_bad_method(d):
+    bg.simulate(msd_model(), VALUES, (0.0, 1.0), method="RK54")
+
+
+@case("simulation", "x0={'p_mm': 1} (unknown state)", NumericError, r"p_mm.*p_m, q_c")
+def simulate_unknown_state(d):
+    bg.simulate(msd_model(), VALUES, (0.0, 1.0), {"p_mm": 1.0})
+
+
+@case("simulation", "max_step=0", NumericError, r"max_step must be a number > 0.*got 0")
+def simulate_zero_step(d):
+    bg.simulate(msd_model(), VALUES, (0.0, 1.0), max_step=0.0)
+
+
+@case("simulation", "t_eval outside t_span", NumericError, r"t_eval\[1\] = 2\.0 is outside")
+def simulate_t_eval_outside(d):
+    bg.simulate(msd_model(), VALUES, (0.0, 1.0), t_eval=[0.5, 2.0])
+
+
+@case("simulation", "law=lambda f: 1 // 0 (a callable law that raises)", bg.LawError, r"R:Rf.*raised ZeroDivisionError")
+def law_callable_raises(d):
+    bg.R("Rf", law=lambda f: 1 // 0)
+
+
+@case("simulation", "law=lambda q: None (a callable law returning nothing)", bg.LawError, r"C:k.*returned NoneType")
+def law_callable_none(d):
+    bg.C("k", law=lambda q: None)
+
+
 # ------------------------------------------------------------------ numeric plants and files
 @case("numeric", "compile_plant('msd') (not a Model)", NumericError, r"expected a bondgraph Model.*got str")
 def compile_not_model(d):
