@@ -7,7 +7,11 @@ Numeric values are the definition's defaults, overridden by ``--params FILE``
 tables/objects give dotted names, ``[motor] Ra = 1.2`` is ``motor.Ra``).
 
 Exit status: 0 on success, 1 when the command fails (the reason is printed
-as ``error: ...`` on stderr), 2 for bad command-line usage.
+as ``error: ...`` on stderr, never a traceback, naming the file at fault),
+2 for bad command-line usage, 130 when interrupted (Ctrl-C).  Files are
+written all or nothing: a failed command leaves no partial or temporary
+file, and the ``.c``/``.h`` pair of ``export --format c`` is replaced
+together or not at all.
 
 Examples
 --------
@@ -22,9 +26,6 @@ from __future__ import annotations
 
 import argparse
 import importlib
-import json
-import math
-import numbers
 import os
 import sys
 from pathlib import Path
@@ -76,32 +77,35 @@ def load_params(path: "str | os.PathLike[str]") -> dict[str, float]:
     ...     load_params(p)
     {'J': 0.01, 'motor.Ra': 1.5}
     """
-    p = Path(os.fspath(path))
-    suffix = p.suffix.lower()
+    from .export import checked_path, decode_json
+
+    name = checked_path(path, "params file", ParamsFileError)
+    suffix = Path(name).suffix.lower()
     if suffix not in (".json", ".toml"):
-        raise ParamsFileError(f"params file '{p}' must be .json or .toml")
+        raise ParamsFileError(f"params file '{name}' must be .json or .toml")
     try:
-        raw = p.read_bytes()
+        raw = Path(name).read_bytes()
     except FileNotFoundError:
-        raise ParamsFileError(f"params file '{p}' does not exist") from None
+        raise ParamsFileError(f"params file '{name}' does not exist") from None
     except OSError as exc:
-        raise ParamsFileError(f"cannot read params file '{p}': {exc.strerror or exc}") from None
-    try:
-        if suffix == ".json":
-            data = json.loads(raw.decode("utf-8"))
-        else:
+        raise ParamsFileError(f"cannot read params file '{name}': {exc.strerror or exc}") from None
+    what = f"params file '{name}'"
+    if suffix == ".json":
+        data = decode_json(raw, what, ParamsFileError)
+    else:
+        try:
             data = _toml().loads(raw.decode("utf-8"))
-    except UnicodeDecodeError as exc:
-        raise ParamsFileError(f"params file '{p}' is not UTF-8 text: {exc}") from None
-    except ValueError as exc:  # json.JSONDecodeError and tomllib.TOMLDecodeError
-        raise ParamsFileError(f"params file '{p}' is not valid {suffix[1:].upper()}: {exc}") from None
+        except UnicodeDecodeError as exc:
+            raise ParamsFileError(f"{what} is not UTF-8 text: {exc}") from None
+        except RecursionError:
+            raise ParamsFileError(f"{what} is nested too deeply to be read") from None
+        except ValueError as exc:  # tomllib.TOMLDecodeError, also for a repeated key
+            raise ParamsFileError(f"{what} is not valid TOML: {exc}") from None
     if not isinstance(data, dict):
         raise ParamsFileError(
-            f"params file '{p}' must hold a mapping of parameter names to numbers; "
+            f"{what} must hold a mapping of parameter names to numbers; "
             f"got a {type(data).__name__}")
-    out: dict[str, float] = {}
-    _flatten(data, "", out, p)
-    return out
+    return _flatten(data, name)
 
 
 def _toml():
@@ -116,21 +120,28 @@ def _toml():
     return tomllib
 
 
-def _flatten(data: Mapping, prefix: str, out: dict[str, float], path: Path) -> None:
-    for key, value in data.items():
-        name = f"{prefix}{key}"
-        if isinstance(value, dict):
-            _flatten(value, name + ".", out, path)
-            continue
-        if isinstance(value, bool) or not isinstance(value, numbers.Real):
-            raise ParamsFileError(
-                f"params file '{path}': parameter {name!r} must be a number; "
-                f"got {type(value).__name__} {value!r}")
-        if not math.isfinite(float(value)):
-            raise ParamsFileError(f"params file '{path}': parameter {name!r} must be finite; got {value!r}")
-        if name in out:
-            raise ParamsFileError(f"params file '{path}': parameter {name!r} is given twice")
-        out[name] = float(value)
+def _flatten(data: Mapping, path: str) -> dict[str, float]:
+    """Nested mappings to dotted names, depth first in file order (no recursion: any depth)."""
+    from .export import number_problem
+
+    out: dict[str, float] = {}
+    stack = [("", iter(data.items()))]
+    while stack:
+        prefix, items = stack[-1]
+        for key, value in items:
+            name = f"{prefix}{key}"
+            if isinstance(value, dict):
+                stack.append((name + ".", iter(value.items())))
+                break
+            problem = number_problem(value)
+            if problem is not None:
+                raise ParamsFileError(f"params file '{path}': parameter {name!r} {problem}")
+            if name in out:
+                raise ParamsFileError(f"params file '{path}': parameter {name!r} is given twice")
+            out[name] = float(value)
+        else:
+            stack.pop()
+    return out
 
 
 # --------------------------------------------------------------------------- helpers
@@ -141,25 +152,30 @@ def _load(path: str):
     return defn, defn.derive()
 
 
+def _given(args) -> Optional[dict[str, float]]:
+    """The ``--params`` file's values, read before the model (a bad file fails fast)."""
+    return None if args.params is None else load_params(args.params)
+
+
 @overload
-def _values(defn, model, params_file: Optional[str], *,
+def _values(defn, model, params_file: Optional[str], given: Optional[Mapping[str, float]], *,
             complete: Literal[True]) -> dict[str, float]: ...
 
 
 @overload
-def _values(defn, model, params_file: Optional[str], *,
+def _values(defn, model, params_file: Optional[str], given: Optional[Mapping[str, float]], *,
             complete: bool) -> Optional[dict[str, float]]: ...
 
 
-def _values(defn, model, params_file: Optional[str], *, complete: bool) -> Optional[dict[str, float]]:
-    """Defaults overridden by the params file; checked against the model's parameters."""
+def _values(defn, model, params_file: Optional[str], given: Optional[Mapping[str, float]], *,
+            complete: bool) -> Optional[dict[str, float]]:
+    """Defaults overridden by the params file's values ``given``; checked against the model's parameters."""
     expected = [p.name for p in model.parameters]
     known = set(expected)
     listing = ", ".join(expected) or "(none)"
     # a model file may give defaults for parameters that only some of its variants use
     values = {n: v for n, v in defn.parameters.items() if n in known}
-    if params_file is not None:
-        given = load_params(params_file)
+    if given is not None:
         unknown = sorted(set(given) - known)
         if unknown:
             raise CLIError(f"params file '{params_file}': unknown parameters {', '.join(unknown)}; "
@@ -219,13 +235,14 @@ def _cmd_equations(args) -> None:
 
 
 def _cmd_tf(args) -> None:
+    given = _given(args)
     defn, model = _load(args.model)
     ss = model.state_space()
     inp = args.input if args.input is not None else _only(ss.input_names, "input")
     outp = args.output if args.output is not None else _only(ss.output_names, "output")
     _check_signal(inp, ss.input_names, "input")
     _check_signal(outp, ss.output_names, "output")
-    values = _values(defn, model, args.params, complete=True) if args.numeric else None
+    values = _values(defn, model, args.params, given, complete=True) if args.numeric else None
     tfmod = _transfer_module()
     G = tfmod.transfer_function(ss.A, ss.B, ss.C, ss.D, input=inp, output=outp,
                                 input_names=list(ss.input_names), output_names=list(ss.output_names))
@@ -247,35 +264,46 @@ def _only(names: Sequence[str], what: str) -> str:
                    f"choose one with --{what}: {', '.join(names) or '(none)'}")
 
 
-def _cmd_export(args) -> None:
-    fmt = args.format
+def _export_format(args) -> str:
+    """The export format, and the output's suffix checked against it (before any work)."""
     out = Path(args.output)
+    fmt = args.format
     if fmt is None:
         fmt = _EXPORT_FORMATS.get(out.suffix.lower())
         if fmt is None:
-            raise CLIError(f"cannot tell the export format from '{out}'; give --format "
+            raise CLIError(f"cannot tell the export format from '{args.output}'; give --format "
                            f"{'|'.join(sorted(set(_EXPORT_FORMATS.values())))}")
-    if args.name is not None and fmt != "c":
-        raise CLIError("--name only applies to --format c (a MATLAB function is named after its file)")
+    if fmt == "c" and out.suffix not in ("", ".c"):
+        raise CLIError(f"C output '{args.output}' must end in .c (the header is written beside it as .h)")
+    if fmt in ("m", "py") and out.suffix != f".{fmt}":
+        language = "MATLAB" if fmt == "m" else "Python"
+        raise CLIError(f"{language} output '{args.output}' must end in .{fmt}")
+    return fmt
+
+
+def _cmd_export(args) -> None:
+    fmt = _export_format(args)
+    out = Path(args.output)
+    _refuse_overwriting_inputs([out.with_suffix(".c"), out.with_suffix(".h")] if fmt == "c" else [out],
+                               args)
+    given = _given(args)
     defn, model = _load(args.model)
     if fmt in ("mat", "npz", "json"):
         from .export import export
         from .numeric import compile_plant
 
-        full = _values(defn, model, args.params, complete=True)
+        full = _values(defn, model, args.params, given, complete=True)
         plant = compile_plant(model).plant(full)
         export(plant, out, format=fmt)
         print(f"wrote {out}")
         return
-    values = _values(defn, model, args.params, complete=False)
+    values = _values(defn, model, args.params, given, complete=False)
     if values is None:
         print("note: not every parameter has a value; the generated code has no defaults",
               file=sys.stderr)
     if fmt == "c":
         from .codegen import write_c
 
-        if out.suffix not in ("", ".c"):
-            raise CLIError(f"C output '{out}' must end in .c (the header is written beside it as .h)")
         src, hdr = write_c(model, out, name=args.name, defaults=values)
         print(f"wrote {src}\nwrote {hdr}")
     elif fmt == "m":
@@ -288,7 +316,36 @@ def _cmd_export(args) -> None:
         print(f"wrote {write_python(model, out, defaults=values)}")
 
 
+def _refuse_overwriting_inputs(outputs: Sequence[Path], args) -> None:
+    """An output must not replace the model file or the params file it is made from."""
+    inputs = [("model file", getattr(args, "model", None)), ("params file", getattr(args, "params", None))]
+    for out in outputs:
+        for what, source in inputs:
+            if source and _same_file(out, source):
+                raise CLIError(f"output '{out}' is the {what} '{source}' itself; choose another output")
+
+
+def _same_file(a: "str | os.PathLike[str]", b: "str | os.PathLike[str]") -> bool:
+    try:
+        return os.path.samefile(a, b)
+    except (OSError, ValueError):       # one does not exist (yet), or a NUL in a name
+        try:
+            return os.path.realpath(a) == os.path.realpath(b)
+        except (OSError, ValueError):
+            return False
+
+
+_DRAW_FORMATS = ("svg", "png")
+
+
 def _cmd_draw(args) -> None:
+    out = Path(args.output)
+    kind = args.format or out.suffix.lower().lstrip(".")
+    if kind not in _DRAW_FORMATS:
+        raise CLIError(f"cannot tell the drawing format from '{args.output}'; use a .svg or .png "
+                       "file name, or give --format svg|png")
+    _refuse_overwriting_inputs([out], args)
+    from .export import atomic_write
     from .modelfile import load_model
 
     defn = load_model(args.model)
@@ -298,7 +355,13 @@ def _cmd_draw(args) -> None:
         if exc.name not in ("bondgraph.drawing",):
             raise
         raise CLIError("drawing needs bondgraph.drawing (not available in this installation)") from None
-    drawing.draw(defn.graph, args.output, fmt=args.format, causality=not args.no_causality)
+    # drawn here and written through atomic_write, so that a failure names the target file
+    scene = drawing.build_scene(drawing.diagram(defn.graph, causality=not args.no_causality))
+    if kind == "svg":
+        data = drawing.scene_to_svg(scene).encode("utf-8")
+        atomic_write(out, lambda fh: fh.write(data))
+    else:
+        atomic_write(out, lambda fh: drawing.write_png(scene, fh))
     print(f"wrote {args.output}")
 
 
@@ -371,7 +434,11 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Optional[Sequence[str]] = None) -> int:
-    """Run the command line; returns the exit status (0 success, 1 failure, 2 usage).
+    """Run the command line; returns the exit status (0 success, 1 failure, 2 usage, 130 interrupted).
+
+    Never raises and never prints a traceback: every failure is one line
+    ``error: <message>`` on stderr naming the file at fault (the model file
+    when the message names no path of its own).
 
     Parameters
     ----------
@@ -408,19 +475,73 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(list(argv) if argv is not None else None)
+        if args.command == "export" and args.name is not None and \
+                (args.format or _EXPORT_FORMATS.get(Path(args.output).suffix.lower(), "c")) != "c":
+            parser.error("--name only applies to --format c (a MATLAB function is named after its file)")
+        if args.command == "tf" and args.params is not None and not args.numeric:
+            parser.error("tf: --params is used only with --numeric")
     except SystemExit as exc:  # --help, --version, usage errors
         return int(exc.code or 0) if not isinstance(exc.code, str) else 2
     try:
         args.func(args)
-    except (BondGraphError, OSError, ValueError) as exc:
-        print(f"error: {_message(exc)}", file=sys.stderr)
+    except KeyboardInterrupt as exc:
+        _report(str(exc) or "interrupted")
+        return 130
+    except BrokenPipeError:
+        _stdout_to_devnull()
+        _report("standard output was closed before everything was printed")
+        return 1
+    except BondGraphError as exc:
+        _report(_naming_path(_text(exc), args))
+        return 1
+    except Exception as exc:  # anything else is reported the same way: never a traceback
+        _report(_naming_path(_message(exc), args))
         return 1
     return 0
 
 
-def _message(exc: BaseException) -> str:
-    text = str(exc) or type(exc).__name__
-    if isinstance(exc, OSError) and not isinstance(exc, BondGraphError) and exc.filename:
-        text = f"{exc.strerror or exc}: '{exc.filename}'"
-    return text
+def _report(message: str) -> None:
+    try:
+        print(f"error: {message}", file=sys.stderr)
+    except (OSError, ValueError):      # stderr closed: the exit status still tells
+        pass
 
+
+def _stdout_to_devnull() -> None:
+    """After a broken pipe: no second error when Python flushes stdout at exit."""
+    try:
+        fd = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(fd, sys.stdout.fileno())
+        os.close(fd)
+    except (OSError, ValueError, AttributeError):   # stdout has no file descriptor (captured)
+        pass
+
+
+def _text(exc: BaseException) -> str:
+    try:
+        return str(exc) or type(exc).__name__
+    except Exception:
+        return type(exc).__name__
+
+
+def _message(exc: BaseException) -> str:
+    """An unexpected exception's message: its type (it says what went wrong) and text."""
+    if isinstance(exc, OSError) and exc.filename:
+        return f"{exc.strerror or _text(exc)}: '{exc.filename}'"
+    return f"{type(exc).__name__}: {_text(exc)}"
+
+
+def _naming_path(message: str, args) -> str:
+    """``message``, prefixed with the model file when it names none of the user's paths."""
+    keys = ("model", "params", "output") if args.command in ("export", "draw") else ("model", "params")
+    paths = [getattr(args, key, None) for key in keys]      # tf's --output is a signal, not a file
+    spellings = set()
+    for path in filter(None, paths):
+        spellings |= {path, os.path.normpath(path), str(Path(path))}
+    if any(f"'{spelling}'" in message for spelling in spellings) or not getattr(args, "model", None):
+        return message
+    return f"model file '{args.model}': {message}"
+
+
+if __name__ == "__main__":  # python -m bondgraph.cli
+    sys.exit(main())

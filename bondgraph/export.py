@@ -39,8 +39,10 @@ JSON, format ``bondgraph-statespace`` version 1
         }
 
     Matrices are row-major nested lists of finite numbers (JSON has no NaN or
-    infinity: a plant with such entries cannot be written).  :func:`load_json`
-    reads the format back and checks it.
+    infinity: a plant with such entries cannot be written); a matrix with no
+    rows is ``[]``.  :func:`load_json` reads the format back and checks every
+    field (``model`` and ``parameters`` may be left out; any other key
+    missing, an unknown key, a repeated key or another version is refused).
 
 Examples
 --------
@@ -60,7 +62,12 @@ Examples
 from __future__ import annotations
 
 import json
+import math
+import numbers
 import os
+import reprlib
+import secrets
+import shutil
 import tempfile
 from pathlib import Path
 from typing import IO, Any, Callable, Optional, Sequence, Union
@@ -71,7 +78,8 @@ from .errors import BondGraphError
 from .numeric.plant import NumericStateSpace
 
 __all__ = ["ExportError", "FORMAT_NAME", "FORMAT_VERSION", "export", "export_mat", "export_npz",
-           "export_json", "load_json", "atomic_write", "atomic_write_many", "FORMATS"]
+           "export_json", "load_json", "atomic_write", "atomic_write_many", "FORMATS",
+           "decode_json", "number_problem", "checked_path", "HugeInt"]
 
 FORMAT_NAME = "bondgraph-statespace"
 FORMAT_VERSION = 1
@@ -101,21 +109,136 @@ class ExportError(BondGraphError, OSError):
         return str(self.args[0]) if self.args else ""
 
 
+class HugeInt:
+    """An integer literal of a JSON text too large for a float (kept as its digits).
+
+    :func:`decode_json` gives one in place of such an integer, so a checker
+    can name the field instead of meeting an ``OverflowError``.
+    """
+
+    __slots__ = ("text",)
+
+    def __init__(self, text: str) -> None:
+        self.text = text
+
+    def __repr__(self) -> str:
+        return f"<integer of {len(self.text.lstrip('-'))} digits>"
+
+
+class _DuplicateKey(Exception):
+    def __init__(self, key: str) -> None:
+        super().__init__(key)
+        self.key = key
+
+
+def _unique_pairs(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for key, value in pairs:
+        if key in out:
+            raise _DuplicateKey(key)
+        out[key] = value
+    return out
+
+
+def _parse_int(text: str) -> Any:
+    # float() first: it takes any number of digits (int() refuses more than 4300)
+    return HugeInt(text) if math.isinf(float(text)) else int(text)
+
+
+def decode_json(raw: bytes, what: str, fail: Callable[[str], Exception]) -> Any:
+    """Parse JSON bytes strictly: UTF-8, no duplicate keys, bounded nesting.
+
+    Parameters
+    ----------
+    raw : bytes
+        The file's content.
+    what : str
+        How messages name the file, e.g. ``"params file 'p.json'"``.
+    fail : callable
+        ``fail(message)`` returns the exception to raise.
+
+    Returns
+    -------
+    object
+        As :func:`json.loads`, except that an integer too large for a float
+        is a :class:`HugeInt` (``NaN`` and ``Infinity`` are read as floats,
+        for the caller's check to name the field).
+
+    Examples
+    --------
+    >>> decode_json(b'{"a": 1, "a": 2}', "'x.json'", ValueError)
+    Traceback (most recent call last):
+    ...
+    ValueError: 'x.json': the key 'a' appears twice in one object
+    """
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise fail(f"{what} is not UTF-8 text: {exc}") from None
+    try:
+        return json.loads(text, object_pairs_hook=_unique_pairs, parse_int=_parse_int)
+    except _DuplicateKey as exc:
+        raise fail(f"{what}: the key {exc.key!r} appears twice in one object") from None
+    except RecursionError:
+        raise fail(f"{what} is nested too deeply to be read") from None
+    except ValueError as exc:
+        raise fail(f"{what} is not valid JSON: {exc}") from None
+
+
+_short = reprlib.Repr()
+_short.maxstring = _short.maxother = 40
+
+
+def number_problem(value: Any) -> Optional[str]:
+    """Why ``value`` is not a finite real number (int or float, not bool); None if it is.
+
+    The text completes a sentence whose subject is the field: ``f"{name} {problem}"``.
+
+    Examples
+    --------
+    >>> number_problem(2), number_problem(True), number_problem(10 ** 400)
+    (None, 'must be a number; got bool True', 'is an integer too large for a float (above 1.8e308)')
+    """
+    if isinstance(value, HugeInt):
+        return f"is an integer too large for a float ({len(value.text.lstrip('-'))} digits)"
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        return f"must be a number; got {type(value).__name__} {_short.repr(value)}"
+    try:
+        number = float(value)
+    except OverflowError:
+        what = "an integer" if isinstance(value, numbers.Integral) else "a number"
+        return f"is {what} too large for a float (above 1.8e308)"
+    if not math.isfinite(number):
+        return f"must be finite; got {_short.repr(value)}"
+    return None
+
+
 def atomic_write_many(items: Sequence[tuple[PathLike, Callable[[Any], None]]], *,
                       binary: bool = True) -> None:
-    """Write several files all-or-nothing (as far as renames allow).
+    """Write several files all or nothing.
 
     Each ``writer(fileobj)`` writes one file's content into a temporary file
-    in the target's directory.  Only once all writers have succeeded are the
-    temporary files renamed over their targets.  On any failure every
-    temporary file is removed and :class:`ExportError` names the path.
+    in the target's directory.  Only once every writer has succeeded are the
+    temporary files renamed over their targets, one by one.  When one of
+    those renames fails (or the process is interrupted between them), the
+    targets already renamed are rolled back: a file that existed before gets
+    its previous content again (it was kept as a hard link, or a copy, beside
+    it), a new file is removed.  Temporary and backup files are removed on
+    every path, so the directory ends as it was, or with every file new.
 
     Parameters
     ----------
     items : sequence of (path, writer)
-        Each target path with the callable that writes its content.
+        Each target path with the callable that writes its content.  The
+        paths must be distinct.
     binary : bool, default True
         Open the temporary files in binary (``"wb"``) or text mode.
+
+    Raises
+    ------
+    ExportError
+        Naming the path that could not be written.  When a rollback itself
+        fails (a disk removed mid-way) the message names the files left new.
 
     Examples
     --------
@@ -126,25 +249,82 @@ def atomic_write_many(items: Sequence[tuple[PathLike, Callable[[Any], None]]], *
     ...     sorted(os.listdir(d))
     ['a.txt', 'b.txt']
     """
+    targets = [_target(path) for path, _ in items]
+    seen: set[str] = set()
+    for target in targets:
+        key = os.path.normcase(os.path.abspath(target))
+        if key in seen:
+            raise ExportError(f"cannot write '{target}' twice in one operation", path=str(target))
+        seen.add(key)
     temps: list[tuple[str, Path]] = []
+    backups: list[str] = []                         # every backup made, removed at the end
+    renamed: list[tuple[Path, Optional[str]]] = []  # (target, its backup or None if it was new)
     try:
-        for path, writer in items:
-            target = _target(path)
-            tmp = _write_temp(target, writer, binary)
-            temps.append((tmp, target))
+        for target, (_, writer) in zip(targets, items):
+            temps.append((_write_temp(target, writer, binary), target))
         for tmp, target in temps:
+            # one file: the rename alone is atomic; several: keep each old file to roll back to
+            backup = _backup(target) if len(temps) > 1 else None
+            if backup is not None:
+                backups.append(backup)
             try:
                 os.replace(tmp, target)
             except OSError as exc:
                 raise ExportError(f"cannot write '{target}': {exc.strerror or exc}",
                                   path=str(target), errno=exc.errno) from exc
+            renamed.append((target, backup))
+    except BaseException as exc:
+        left = _roll_back(renamed)
+        if left and isinstance(exc, ExportError):
+            raise ExportError(f"{exc}; rolling back also failed, these files are new: "
+                              f"{', '.join(left)}", path=exc.filename, errno=exc.errno) from exc
+        raise
     finally:
         for tmp, _ in temps:
-            if os.path.exists(tmp):
-                try:
-                    os.unlink(tmp)
-                except OSError:  # pragma: no cover - nothing more can be done
-                    pass
+            _unlink(tmp)
+        for backup in backups:
+            _unlink(backup)
+
+
+def _backup(target: Path) -> Optional[str]:
+    """A hard link (or else a copy) of ``target`` beside it; None when there is no file."""
+    if not os.path.lexists(target):
+        return None
+    folder = target.parent if str(target.parent) else Path(".")
+    for _ in range(100):
+        name = str(folder / f".{target.name}.{os.getpid()}.{secrets.token_hex(4)}.bak")
+        try:
+            os.link(target, name, follow_symlinks=False)
+            return name
+        except FileExistsError:
+            continue
+        except OSError:
+            break           # no hard links here: copy instead
+    name = ""
+    try:
+        fd, name = tempfile.mkstemp(dir=folder, prefix=f".{target.name}.", suffix=".bak")
+        os.close(fd)
+        shutil.copy2(target, name, follow_symlinks=False)
+        return name
+    except OSError as exc:
+        if name:
+            _unlink(name)
+        raise ExportError(f"cannot write '{target}': cannot keep its previous content to roll "
+                          f"back to: {exc.strerror or exc}", path=str(target), errno=exc.errno) from exc
+
+
+def _roll_back(renamed: Sequence[tuple[Path, Optional[str]]]) -> list[str]:
+    """Put back what the renamed targets held; returns the targets that could not be."""
+    left = []
+    for target, backup in reversed(renamed):
+        try:
+            if backup is None:
+                os.unlink(target)
+            else:
+                os.replace(backup, target)
+        except OSError:
+            left.append(str(target))
+    return left
 
 
 def atomic_write(path: PathLike, writer: Callable[[Any], None], *, binary: bool = True) -> None:
@@ -174,26 +354,60 @@ def atomic_write(path: PathLike, writer: Callable[[Any], None], *, binary: bool 
     atomic_write_many([(path, writer)], binary=binary)
 
 
-def _target(path: PathLike) -> Path:
+def checked_path(path: Any, what: str, error: Callable[[str], Exception]) -> str:
+    """``os.fspath(path)``, a str without NUL characters; else ``error(message)`` naming ``what``.
+
+    Parameters
+    ----------
+    path : str or path-like
+        A path as the user gave it.
+    what : str
+        What the path is for, e.g. ``"model file"``; it begins the message.
+    error : callable
+        ``error(message)`` returns the exception to raise.
+
+    Returns
+    -------
+    str
+        The path, spelled as given.
+
+    Examples
+    --------
+    >>> checked_path("a\\0b.json", "params file", ValueError)
+    Traceback (most recent call last):
+    ...
+    ValueError: params file 'a\\x00b.json' cannot be used: its name holds a NUL character
+    """
     try:
-        return Path(os.fspath(path))
+        text = os.fspath(path)
     except TypeError:
-        raise ExportError(f"output path must be a str or path; got {type(path).__name__}") from None
+        raise error(f"{what} path must be a str or path; got {type(path).__name__}") from None
+    if not isinstance(text, str):
+        raise error(f"{what} path must be a str or path; got {type(text).__name__} {text!r}")
+    if "\0" in text:
+        raise error(f"{what} {text!r} cannot be used: its name holds a NUL character")
+    return text
+
+
+def _target(path: PathLike) -> Path:
+    return Path(checked_path(path, "output", ExportError))
 
 
 def _write_temp(target: Path, writer: Callable[[Any], None], binary: bool) -> str:
     folder = target.parent if str(target.parent) else Path(".")
-    if target.is_dir():
-        raise ExportError(f"cannot write '{target}': it is a directory", path=str(target), errno=21)
-    if not folder.exists():
-        raise ExportError(f"cannot write '{target}': the directory '{folder}' does not exist",
-                          path=str(target), errno=2)
-    if not folder.is_dir():
-        raise ExportError(f"cannot write '{target}': '{folder}' is not a directory",
-                          path=str(target), errno=20)
     try:
+        if target.is_dir():
+            raise ExportError(f"cannot write '{target}': it is a directory", path=str(target), errno=21)
+        if not folder.exists():
+            raise ExportError(f"cannot write '{target}': the directory '{folder}' does not exist",
+                              path=str(target), errno=2)
+        if not folder.is_dir():
+            raise ExportError(f"cannot write '{target}': '{folder}' is not a directory",
+                              path=str(target), errno=20)
         fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{target.name}.", suffix=".tmp")
     except OSError as exc:
+        if isinstance(exc, ExportError):
+            raise
         raise ExportError(f"cannot write '{target}': {exc.strerror or exc}",
                           path=str(target), errno=exc.errno) from exc
     try:
@@ -212,6 +426,9 @@ def _write_temp(target: Path, writer: Callable[[Any], None], binary: bool) -> st
         errno = getattr(exc, "errno", None)
         raise ExportError(f"cannot write '{target}': {type(exc).__name__}: {exc}",
                           path=str(target), errno=errno) from exc
+    except BaseException:       # KeyboardInterrupt, SystemExit: no temporary file is left
+        _unlink(tmp)
+        raise
     return tmp
 
 
@@ -224,7 +441,9 @@ def _umask() -> int:
 def _unlink(path: str) -> None:
     try:
         os.unlink(path)
-    except OSError:  # pragma: no cover
+    except FileNotFoundError:
+        pass
+    except OSError:  # pragma: no cover - nothing more can be done
         pass
 
 
@@ -425,10 +644,23 @@ def export_json(plant: NumericStateSpace, path: PathLike) -> None:
     """
     _check_exportable(plant)
     doc = to_json_dict(plant)
+    where = os.fspath(_target(path))
+    for key in ("A", "B", "C", "D"):
+        matrix = np.asarray(getattr(plant, key))
+        bad = np.argwhere(~np.isfinite(matrix)) if np.isrealobj(matrix) else np.argwhere(matrix.imag != 0)
+        if bad.size:
+            i, j = (int(k) for k in bad[0])
+            raise ExportError(f"cannot write '{where}': {key}[{i}, {j}] is {matrix[i, j]} "
+                              "(JSON holds finite real numbers only: no NaN, infinity or complex)",
+                              path=where)
+    for name, value in doc["parameters"].items():
+        problem = number_problem(value)
+        if problem is not None:
+            raise ExportError(f"cannot write '{where}': parameter {name!r} {problem}", path=where)
     try:
         text = _json_text(doc)
-    except ValueError as exc:
-        raise ExportError(f"cannot write '{os.fspath(path)}': {exc} (JSON has no NaN or infinity)") from exc
+    except (TypeError, ValueError) as exc:   # pragma: no cover - every field is checked above
+        raise ExportError(f"cannot write '{where}': {exc}", path=where) from exc
     atomic_write(path, lambda fh: fh.write(text), binary=False)
 
 
@@ -447,7 +679,13 @@ def load_json(path: PathLike) -> NumericStateSpace:
     Raises
     ------
     ExportError
-        If the file cannot be read, is not JSON, or does not follow the format.
+        Naming the file, and the field at fault: the file cannot be read, is
+        not UTF-8 JSON, repeats a key in one object, or does not follow the
+        format.  Every field is checked: ``format`` and ``version`` (exactly
+        1; other versions are refused), no unknown keys, ``model`` a string,
+        the name lists lists of distinct strings, ``A``..``D`` nested lists of
+        the shapes the name lists give, every number (matrix entries and
+        parameter values) a finite real (not a bool, not ``NaN``).
 
     Examples
     --------
@@ -463,30 +701,99 @@ def load_json(path: PathLike) -> NumericStateSpace:
     """
     target = _target(path)
     try:
-        doc = json.loads(target.read_text(encoding="utf-8"))
+        raw = target.read_bytes()
     except OSError as exc:
         raise ExportError(f"cannot read '{target}': {exc.strerror or exc}",
                           path=str(target), errno=exc.errno) from exc
-    except ValueError as exc:
-        raise ExportError(f"'{target}' is not valid JSON: {exc}") from exc
+    doc = decode_json(raw, f"'{target}'", lambda message: ExportError(message, path=str(target)))
+    return _plant_from_document(doc, str(target))
+
+
+#: keys of the JSON document; ``model`` and ``parameters`` may be left out
+_JSON_KEYS = ("format", "version", "model", "states", "inputs", "outputs", "A", "B", "C", "D",
+              "parameters")
+_JSON_OPTIONAL = ("model", "parameters")
+
+
+def _plant_from_document(doc: Any, where: str) -> NumericStateSpace:
+    """Check a parsed ``bondgraph-statespace`` document field by field and build the plant."""
+    def fail(message: str) -> ExportError:
+        return ExportError(f"'{where}': {message}", path=where)
+
     if not isinstance(doc, dict) or doc.get("format") != FORMAT_NAME:
-        raise ExportError(f"'{target}' is not a {FORMAT_NAME} document (no \"format\": \"{FORMAT_NAME}\")")
-    if doc.get("version") != FORMAT_VERSION:
-        raise ExportError(f"'{target}': unsupported {FORMAT_NAME} version {doc.get('version')!r}; "
-                          f"expected {FORMAT_VERSION}")
-    missing = [k for k in ("states", "inputs", "outputs", "A", "B", "C", "D") if k not in doc]
+        raise ExportError(f"'{where}' is not a {FORMAT_NAME} document "
+                          f"(no \"format\": \"{FORMAT_NAME}\")", path=where)
+    if "version" not in doc:
+        raise fail('missing key "version"')
+    version = doc["version"]
+    if isinstance(version, bool) or not isinstance(version, int):
+        raise fail(f'"version" must be an integer; got {type(version).__name__} {_short.repr(version)}')
+    if version != FORMAT_VERSION:
+        raise fail(f"unsupported {FORMAT_NAME} version {version}; this bondgraph reads version "
+                   f"{FORMAT_VERSION} only")
+    unknown = [k for k in doc if k not in _JSON_KEYS]
+    if unknown:
+        raise fail(f"unknown keys {', '.join(map(repr, unknown))}; a version {FORMAT_VERSION} "
+                   f"document has {', '.join(_JSON_KEYS)}")
+    missing = [k for k in _JSON_KEYS if k not in doc and k not in _JSON_OPTIONAL]
     if missing:
-        raise ExportError(f"'{target}': missing keys {', '.join(missing)}")
-    n, m, p = len(doc["states"]), len(doc["inputs"]), len(doc["outputs"])
+        raise fail(f"missing keys {', '.join(missing)}")
+    model = doc.get("model", "")
+    if not isinstance(model, str):
+        raise fail(f'"model" must be a string; got {type(model).__name__} {_short.repr(model)}')
+    names = {key: _json_names(doc[key], key, fail) for key in ("states", "inputs", "outputs")}
+    n, m, p = (len(names[k]) for k in ("states", "inputs", "outputs"))
+    sizes = {"A": (n, n, "states", "states"), "B": (n, m, "states", "inputs"),
+             "C": (p, n, "outputs", "states"), "D": (p, m, "outputs", "inputs")}
+    mats = {key: _json_matrix(doc[key], key, *sizes[key], fail) for key in "ABCD"}
+    params_doc = doc.get("parameters", {})
+    if not isinstance(params_doc, dict):
+        raise fail(f'"parameters" must be an object of names to numbers; got '
+                   f"{type(params_doc).__name__} {_short.repr(params_doc)}")
+    params = {}
+    for key, value in params_doc.items():
+        problem = number_problem(value)
+        if problem is not None:
+            raise fail(f"parameter {key!r} {problem}")
+        params[key] = float(value)
     try:
-        mats = [np.array(doc[k], dtype=float).reshape(shape) for k, shape in
-                (("A", (n, n)), ("B", (n, m)), ("C", (p, n)), ("D", (p, m)))]
-        params = {str(k): float(v) for k, v in dict(doc.get("parameters", {})).items()}
-        A, B, C, D = mats
-        return NumericStateSpace(A, B, C, D, tuple(doc["states"]), tuple(doc["inputs"]),
-                                 tuple(doc["outputs"]), params, str(doc.get("model", "")))
-    except (TypeError, ValueError) as exc:
-        raise ExportError(f"'{target}': malformed {FORMAT_NAME} document: {exc}") from exc
+        return NumericStateSpace(mats["A"], mats["B"], mats["C"], mats["D"], names["states"],
+                                 names["inputs"], names["outputs"], params, model)
+    except (BondGraphError, TypeError, ValueError) as exc:    # pragma: no cover - checked above
+        raise fail(f"malformed {FORMAT_NAME} document: {exc}") from exc
+
+
+def _json_names(value: Any, key: str, fail: Callable[[str], ExportError]) -> tuple[str, ...]:
+    if not isinstance(value, list):
+        raise fail(f'"{key}" must be a list of names; got {type(value).__name__} {_short.repr(value)}')
+    seen: set[str] = set()
+    for k, name in enumerate(value):
+        if not isinstance(name, str):
+            raise fail(f'"{key}"[{k}] must be a string; got {type(name).__name__} {_short.repr(name)}')
+        if name in seen:
+            raise fail(f'"{key}" names {name!r} twice')
+        seen.add(name)
+    return tuple(value)
+
+
+def _json_matrix(value: Any, key: str, rows: int, cols: int, row_names: str, col_names: str,
+                 fail: Callable[[str], ExportError]) -> np.ndarray:
+    shape = (f'"{key}" must be {rows} rows (one per name in "{row_names}") of {cols} numbers '
+             f'(one per name in "{col_names}")')
+    if not isinstance(value, list) or len(value) != rows:
+        got = f"{len(value)} rows" if isinstance(value, list) else f"{type(value).__name__}"
+        raise fail(f"{shape}; got {got}")
+    out = np.zeros((rows, cols))
+    for i, row in enumerate(value):
+        if not isinstance(row, list) or len(row) != cols:
+            got = f"{len(row)} numbers" if isinstance(row, list) else type(row).__name__
+            raise fail(f"{shape}; row {i} has {got}")
+        for j, entry in enumerate(row):
+            problem = number_problem(entry)
+            if problem is not None:
+                raise fail(f"{key}[{i}][{j}] {problem}")
+            out[i, j] = float(entry)
+    return out
 
 
 def export(plant: NumericStateSpace, path: PathLike, *, format: Optional[str] = None) -> None:

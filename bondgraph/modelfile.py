@@ -36,11 +36,13 @@ import importlib.util
 import math
 import numbers
 import os
+import reprlib
+import stat
 import sys
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from types import MappingProxyType
-from typing import Any, Mapping, Union
+from typing import Any, Callable, Mapping, Union
 
 import sympy
 
@@ -142,7 +144,8 @@ class ModelDefinition:
         True
         """
         if "model" not in self._cache:
-            self._cache["model"] = _derive(self.graph, outputs=dict(self.outputs))
+            model = _derive(self.graph, outputs=dict(self.outputs))
+            self._cache["model"] = replace(model, declared_parameters=tuple(self.parameters))
         return self._cache["model"]
 
     def plant(self, values: Mapping[str, float] | None = None):
@@ -181,11 +184,22 @@ def _finite(value: Any, name: str) -> float:
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
         raise ModelFileError(
             f"default value of parameter {name!r} must be a finite real number; "
-            f"got {type(value).__name__} {value!r}")
-    out = float(value)
+            f"got {type(value).__name__} {_short(value)}")
+    try:
+        out = float(value)
+    except (OverflowError, TypeError, ValueError):
+        raise ModelFileError(f"default value of parameter {name!r} must be a finite real number; "
+                             f"got {_short(value)}, too large for a float") from None
     if not math.isfinite(out):
         raise ModelFileError(f"default value of parameter {name!r} must be finite; got {value!r}")
     return out
+
+
+def _short(value: Any) -> str:
+    try:
+        return reprlib.repr(value)
+    except Exception:   # a repr that fails, or an int too long for str()
+        return f"<{type(value).__name__}>"
 
 
 def load_model(path: PathLike) -> ModelDefinition:
@@ -207,9 +221,14 @@ def load_model(path: PathLike) -> ModelDefinition:
     Raises
     ------
     ModelFileError
-        If the file does not exist, is not a ``.py`` file, raises while being
-        imported, has no callable ``model``, or ``model()`` fails or returns
-        something other than a :class:`ModelDefinition`.
+        Naming the file: it does not exist, is not a ``.py`` file, raises
+        (any exception, ``sys.exit`` with any code, ``raise SystemExit``)
+        while being imported, has no callable ``model``, or ``model()`` fails
+        the same ways or returns something other than a
+        :class:`ModelDefinition`.
+    KeyboardInterrupt
+        When interrupted while the file's code runs (also a ``raise
+        KeyboardInterrupt`` in the file); its message names the file.
 
     Examples
     --------
@@ -232,18 +251,9 @@ def load_model(path: PathLike) -> ModelDefinition:
     ...
     bondgraph.modelfile.ModelFileError: model file 'no/such/model.py' does not exist
     """
-    try:
-        p = Path(os.fspath(path))
-    except TypeError:
-        raise ModelFileError(f"model file path must be a str or path; got {type(path).__name__}") from None
-    if not p.exists():
-        raise ModelFileError(f"model file '{p}' does not exist")
-    if not p.is_file():
-        raise ModelFileError(f"model file '{p}' is not a file")
-    if p.suffix != ".py":
-        raise ModelFileError(f"model file '{p}' is not a Python file: expected a name ending in .py")
+    p = _model_path(path)
     module = _import(p)
-    fn = getattr(module, "model", None)
+    fn = _guarded(p, "while looking up model", lambda: getattr(module, "model", None))
     if fn is None:
         raise ModelFileError(
             f"model file '{p}' defines no function model(); it must define "
@@ -251,12 +261,14 @@ def load_model(path: PathLike) -> ModelDefinition:
     if not callable(fn):
         raise ModelFileError(f"model file '{p}': model is a {type(fn).__name__}, not a function")
     try:
-        result = fn()
+        result = _guarded(p, "in model()", fn)
+    except _ExitError:
+        raise
     except BondGraphError as exc:
-        raise ModelFileError(f"model file '{p}': model() failed: {exc}") from exc
+        raise ModelFileError(f"model file '{p}': model() failed: {_text(exc)}") from exc
     except Exception as exc:
         raise ModelFileError(
-            f"model file '{p}': model() raised {type(exc).__name__}: {exc}") from exc
+            f"model file '{p}': model() raised {type(exc).__name__}: {_text(exc)}") from exc
     if not isinstance(result, ModelDefinition):
         raise ModelFileError(
             f"model file '{p}': model() returned {type(result).__name__}; expected a "
@@ -264,10 +276,63 @@ def load_model(path: PathLike) -> ModelDefinition:
     return result
 
 
-def _import(p: Path):
-    resolved = p.resolve()
-    digest = hashlib.sha1(str(resolved).encode()).hexdigest()[:10]
-    modname = f"_bondgraph_model_{_identifier(p.stem)}_{digest}"
+def _model_path(path: Any) -> str:
+    """The model file's path as the user gave it, checked to name a readable .py file."""
+    from .export import checked_path
+
+    p = checked_path(path, "model file", ModelFileError)
+    try:
+        info = os.stat(p)
+    except (FileNotFoundError, NotADirectoryError):
+        raise ModelFileError(f"model file '{p}' does not exist") from None
+    except OSError as exc:
+        raise ModelFileError(f"cannot read model file '{p}': {exc.strerror or exc}") from None
+    if not stat.S_ISREG(info.st_mode):
+        raise ModelFileError(f"model file '{p}' is not a file")
+    if Path(p).suffix != ".py":
+        raise ModelFileError(f"model file '{p}' is not a Python file: expected a name ending in .py")
+    return p
+
+
+class _ExitError(ModelFileError):
+    """The model file's code exited (``sys.exit``) or raised a non-``Exception``."""
+
+
+def _guarded(p: str, doing: str, call: Callable[[], Any]) -> Any:
+    """Run the model file's code: exits and interrupts are reported naming the file.
+
+    ``SystemExit`` (``sys.exit`` with any code) and any other exception that
+    is not an ``Exception`` become a :class:`ModelFileError` (``_ExitError``);
+    ``KeyboardInterrupt`` stays one (an interrupt is not the file's error)
+    with a message naming the file.  Other exceptions pass to the caller.
+    """
+    try:
+        return call()
+    except KeyboardInterrupt as exc:
+        raise KeyboardInterrupt(f"model file '{p}' was interrupted {doing}") from exc
+    except SystemExit as exc:
+        raise _ExitError(f"model file '{p}' called sys.exit({_short(exc.code)}) {doing}; "
+                             "a model file must not exit: define model() and return a "
+                             "ModelDefinition") from None
+    except Exception:
+        raise
+    except BaseException as exc:         # GeneratorExit, or a BaseException of the file's own
+        raise _ExitError(f"model file '{p}' raised {type(exc).__name__} {doing}: "
+                             f"{_text(exc)}") from None
+
+
+def _text(exc: BaseException) -> str:
+    """``str(exc)``, even when the exception's own ``__str__`` fails."""
+    try:
+        return str(exc)
+    except Exception:
+        return f"<{type(exc).__name__} whose message cannot be shown>"
+
+
+def _import(p: str):
+    resolved = Path(p).resolve()
+    digest = hashlib.sha1(str(resolved).encode("utf-8", "surrogateescape")).hexdigest()[:10]
+    modname = f"_bondgraph_model_{_identifier(Path(p).stem)}_{digest}"
     spec = importlib.util.spec_from_file_location(modname, resolved)
     if spec is None or spec.loader is None:  # pragma: no cover - .py files always have a loader
         raise ModelFileError(f"model file '{p}' cannot be imported")
@@ -275,16 +340,23 @@ def _import(p: Path):
     folder = str(resolved.parent)
     sys.path.insert(0, folder)
     sys.modules[modname] = module
+    loader = spec.loader
     try:
-        spec.loader.exec_module(module)
+        _guarded(p, "while being imported", lambda: loader.exec_module(module))
     except SyntaxError as exc:
         sys.modules.pop(modname, None)
         raise ModelFileError(
             f"model file '{p}' has a syntax error at line {exc.lineno}: {exc.msg}") from exc
+    except _ExitError:
+        sys.modules.pop(modname, None)
+        raise
     except Exception as exc:
         sys.modules.pop(modname, None)
         raise ModelFileError(
-            f"model file '{p}' raised {type(exc).__name__} while being imported: {exc}") from exc
+            f"model file '{p}' raised {type(exc).__name__} while being imported: {_text(exc)}") from exc
+    except BaseException:
+        sys.modules.pop(modname, None)
+        raise
     finally:
         try:
             sys.path.remove(folder)

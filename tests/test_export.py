@@ -186,3 +186,87 @@ def test_unwritable_directory(tmp_path, plant):
 def test_not_a_plant(tmp_path):
     with pytest.raises(ExportError, match="expected a NumericStateSpace"):
         export_json({"A": 1}, tmp_path / "x.json")
+
+
+# ----------------------------------------------------------------------------- load_json schema
+def _doc(**changes):
+    doc = {"format": "bondgraph-statespace", "version": 1, "model": "m", "states": ["x1", "x2"],
+           "inputs": ["u"], "outputs": ["y"], "A": [[-1.0, 0.0], [0.0, -2.0]], "B": [[1.0], [0.0]],
+           "C": [[1.0, 0.0]], "D": [[0.0]], "parameters": {"k": 2.0}}
+    for key, value in changes.items():
+        if value is _DROP:
+            del doc[key]
+        else:
+            doc[key] = value
+    return json.dumps(doc)
+
+
+_DROP = object()
+BAD_DOCUMENTS = [
+    (_doc(states=None), '"states" must be a list of names; got NoneType None'),
+    (_doc(inputs="u"), '"inputs" must be a list of names; got str'),
+    (_doc(outputs=[1]), '"outputs"[0] must be a string; got int 1'),
+    (_doc(states=["x", "x"]), '"states" names \'x\' twice'),
+    (_doc(version=2), "unsupported bondgraph-statespace version 2; this bondgraph reads version 1 only"),
+    (_doc(version="1"), '"version" must be an integer; got str'),
+    (_doc(version=True), '"version" must be an integer; got bool'),
+    (_doc(version=1.0), '"version" must be an integer; got float'),
+    (_doc(version=_DROP), 'missing key "version"'),
+    (_doc(A=_DROP, D=_DROP), "missing keys A, D"),
+    (_doc(extra=1), "unknown keys 'extra'"),
+    (_doc(model=3), '"model" must be a string; got int 3'),
+    (_doc(A=[[-1.0, 0.0]]), '"A" must be 2 rows (one per name in "states") of 2 numbers'),
+    (_doc(B=[[1.0, 2.0], [0.0, 0.0]]), "row 0 has 2 numbers"),
+    (_doc(C=[1.0, 0.0]), '"C" must be 1 rows (one per name in "outputs") of 2 numbers'),
+    (_doc(D={"0": 0}), "got dict"),
+    (_doc(A=[[-1.0, "0"], [0.0, -2.0]]), "A[0][1] must be a number; got str '0'"),
+    (_doc(A=[[-1.0, None], [0.0, -2.0]]), "A[0][1] must be a number; got NoneType"),
+    (_doc(A=[[-1.0, False], [0.0, -2.0]]), "A[0][1] must be a number; got bool"),
+    (_doc(A=[[-1.0, 0.0], [0.0, float("nan")]]), "A[1][1] must be finite; got nan"),
+    (_doc(B=[[float("inf")], [0.0]]), "B[0][0] must be finite; got inf"),
+    (_doc(D=[[10 ** 400]]), "D[0][0] is an integer too large for a float (401 digits)"),
+    (_doc(parameters=[1]), '"parameters" must be an object of names to numbers; got list'),
+    (_doc(parameters={"k": "2"}), "parameter 'k' must be a number; got str"),
+    (_doc(parameters={"k": float("-inf")}), "parameter 'k' must be finite"),
+    ('{"format": "bondgraph-statespace", "version": 1, "version": 1}', "the key 'version' appears twice"),
+    (_doc(parameters={"k": 1})[:-2] + ', "k": 2}}', "the key 'k' appears twice"),
+    ("[" * 5000 + "]" * 5000, "nested too deeply"),
+    ("[1, 2]", "is not a bondgraph-statespace document"),
+    ('"bondgraph-statespace"', "is not a bondgraph-statespace document"),
+    ("", "is not valid JSON"),
+    (b'{"format": "\xff"}', "is not UTF-8 text"),
+]
+
+
+@pytest.mark.parametrize("content, words", BAD_DOCUMENTS, ids=[w[:32] for _, w in BAD_DOCUMENTS])
+def test_load_json_checks_every_field(tmp_path, content, words):
+    path = tmp_path / "plant.json"
+    if isinstance(content, bytes):
+        path.write_bytes(content)
+    else:
+        path.write_text(content)
+    with pytest.raises(ExportError) as info:
+        load_json(path)
+    assert words in str(info.value) and f"'{path}'" in str(info.value)
+    assert isinstance(info.value, ex.BondGraphError) and info.value.filename == str(path)
+
+
+def test_load_json_optional_fields_and_empty_matrices(tmp_path):
+    path = tmp_path / "plant.json"
+    path.write_text(_doc(model=_DROP, parameters=_DROP))
+    back = load_json(path)
+    assert back.name == "" and dict(back.parameters) == {} and back.A.shape == (2, 2)
+    static = NumericStateSpace(np.zeros((0, 0)), np.zeros((0, 2)), np.zeros((1, 0)), [[1.0, 2.0]],
+                               (), ("u", "v"), ("y",), {}, "gain")
+    export_json(static, path)
+    assert json.loads(path.read_text())["A"] == [] and json.loads(path.read_text())["C"] == [[]]
+    back = load_json(path)
+    assert back.A.shape == (0, 0) and back.B.shape == (0, 2) and back.C.shape == (1, 0)
+    np.testing.assert_array_equal(back.D, [[1.0, 2.0]])
+
+
+def test_load_json_reading_errors(tmp_path):
+    with pytest.raises(ExportError, match=f"cannot read '{tmp_path}'"):
+        load_json(tmp_path)
+    with pytest.raises(ExportError, match="NUL character"):
+        load_json("a\0.json")
