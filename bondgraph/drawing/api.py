@@ -15,7 +15,6 @@ True
 from __future__ import annotations
 
 import os
-import tempfile
 from pathlib import Path
 from typing import Optional, Union
 
@@ -151,17 +150,7 @@ def _format(path, fmt: Optional[str]) -> str:
 
 
 def _atomic_write(path, write) -> None:
-    target = Path(os.fspath(path))
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp",
-                               dir=target.parent if str(target.parent) else ".")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            write(f)
-        os.chmod(tmp, 0o644)
-        os.replace(tmp, target)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+    """All or nothing, errors naming ``path`` (never the temporary file)."""
+    from ..files import atomic_write
+
+    atomic_write(path, write)

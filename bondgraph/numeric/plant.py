@@ -56,6 +56,7 @@ from ..statespace import SignalCounts, check_matrix_shape, expected_shape
 from ._compile import lambdify_cse, placeholders
 from ._linalg import freeze, frequency_response, sorted_eigenvalues
 from .._labels import control_labels
+from ..parameters import real_value
 from .errors import ImproperPlantError, NumericError, ParameterValueError
 from .parameters import ParameterValues, resolve_batch, resolve_parameters
 
@@ -147,7 +148,8 @@ class NumericStateSpace(SignalCounts):
         for f, value in zip(("state_names", "input_names", "output_names"), names):
             object.__setattr__(self, f, value)
         object.__setattr__(self, "parameters",
-                           MappingProxyType({str(k): float(v) for k, v in dict(self.parameters).items()}))
+                           MappingProxyType({str(k): real_value(v, str(k))
+                                             for k, v in dict(self.parameters).items()}))
 
     def __repr__(self) -> str:
         return (f"NumericStateSpace({self.name!r}: {self.nstates} states, {self.ninputs} inputs, "
