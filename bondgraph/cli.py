@@ -31,7 +31,8 @@ import sys
 from pathlib import Path
 from typing import Literal, Mapping, Optional, Sequence, overload
 
-from .errors import BondGraphError
+from .errors import BondGraphError, ParameterValueError
+from .parameters import match_values
 
 __all__ = ["main", "build_parser", "load_params", "ParamsFileError", "CLIError"]
 
@@ -172,15 +173,17 @@ def _values(defn, model, params_file: Optional[str], given: Optional[Mapping[str
     """Defaults overridden by the params file's values ``given``; checked against the model's parameters."""
     expected = [p.name for p in model.parameters]
     known = set(expected)
-    listing = ", ".join(expected) or "(none)"
     # a model file may give defaults for parameters that only some of its variants use
     values = {n: v for n, v in defn.parameters.items() if n in known}
     if given is not None:
-        unknown = sorted(set(given) - known)
-        if unknown:
-            raise CLIError(f"params file '{params_file}': unknown parameters {', '.join(unknown)}; "
-                           f"the model's parameters are: {listing}")
-        values.update(given)
+        # the package-wide policy: unknown names listed with the valid ones, names the
+        # model definition knows but this variant does not use accepted
+        try:
+            picked = match_values(model.parameters, given, known=model.known_parameters,
+                                  partial=True, where=f"params file '{params_file}': ")
+        except ParameterValueError as exc:
+            raise CLIError(str(exc)) from None
+        values.update({p.name: v for p, v in picked.items()})
     missing = [n for n in expected if n not in values]
     if missing:
         if complete:

@@ -618,6 +618,76 @@ def load_sys_exit(d):
     bg.load_model(model_file(d, "import sys\nsys.exit(0)\n"))
 
 
+# ------------------------------------------------------------------ command line
+def params_file(d: Dirs, text: str) -> str:
+    path = d.inp / "params.json"
+    path.write_text(text, encoding="utf-8")
+    return str(path)
+
+
+@case("command line", "params file with a 400-digit integer", CliError,
+      r"exit 1: error: .*params\.json.*'m'.*too large for a float")
+def cli_huge_int(d):
+    cli("export", model_file(d, MSD_FILE), "--params", params_file(d, '{"m": ' + "9" * 400 + "}"),
+        "-o", str(d.out / "plant.mat"))
+
+
+@case("command line", "params file nested 100,000 levels deep", CliError,
+      r"exit 1: error: .*params\.json.* nested too deeply")
+def cli_deep_json(d):
+    cli("export", model_file(d, MSD_FILE), "--params", params_file(d, "[" * 100000 + "]" * 100000),
+        "-o", str(d.out / "plant.mat"))
+
+
+@case("command line", "params file with the key m twice", CliError,
+      r"exit 1: error: .*params\.json.*'m' appears twice")
+def cli_duplicate_param(d):
+    cli("export", model_file(d, MSD_FILE), "--params", params_file(d, '{"m": 1.0, "m": 2.0}'),
+        "-o", str(d.out / "plant.mat"))
+
+
+@case("command line", 'params file with "m": "2"', CliError, r"exit 1: error: .*params\.json.*'m'")
+def cli_text_param(d):
+    cli("export", model_file(d, MSD_FILE), "--params", params_file(d, '{"m": "2"}'),
+        "-o", str(d.out / "plant.mat"))
+
+
+@case("command line", "params file with a misspelled parameter", CliError,
+      r"exit 1: error: params file '.*params\.json': unknown parameter 'mm' \(did you mean 'm'\?\)")
+def cli_unknown_param(d):
+    cli("export", model_file(d, MSD_FILE), "--params", params_file(d, '{"mm": 2.0}'),
+        "-o", str(d.out / "plant.mat"))
+
+
+@case("command line", "model file that calls sys.exit(0)", CliError,
+      r"exit 1: error: model file '.*model\.py' called sys\.exit\(0\)")
+def cli_sys_exit(d):
+    cli("export", model_file(d, "import sys\nsys.exit(0)\n"), "-o", str(d.out / "plant.mat"))
+
+
+@case("command line", "model file that does not exist", CliError, r"exit 1: error: model file '.*nope\.py' does not exist")
+def cli_missing_model(d):
+    cli("equations", str(d.inp / "nope.py"))
+
+
+@case("command line", "export -o plant.xlsx", CliError,
+      r"exit 1: error: cannot tell the export format from '.*plant\.xlsx'; give --format")
+def cli_bad_suffix(d):
+    cli("export", model_file(d, MSD_FILE), "-o", str(d.out / "plant.xlsx"))
+
+
+@case("command line", "export --format c --name $'abc\\n'", CliError, r"exit [12]: error: .*'abc\\n'")
+def cli_name_newline(d):
+    cli("export", model_file(d, MSD_FILE), "--format", "c", "--name", "abc\n",
+        "-o", str(d.out / "plant.c"))
+
+
+@case("command line", "export into a directory that does not exist", CliError,
+      r"exit 1: error: cannot write '.*missing/plant\.mat'")
+def cli_missing_dir(d):
+    cli("export", model_file(d, MSD_FILE), "-o", str(d.out / "missing" / "plant.mat"))
+
+
 def render(results: list[tuple[Case, str]]) -> str:
     """The catalogue as a Markdown page (``docs/errors.md``)."""
     lines = ["# Errors: the bad-input catalogue", "",
