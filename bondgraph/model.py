@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass, field
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 import sympy
 
@@ -21,6 +21,9 @@ from .signals import LawVariable, Signal
 from .signals import t as T_SYM
 from .statespace import SymbolicStateSpace
 from .values import as_expr
+
+if TYPE_CHECKING:
+    from .hamiltonian import PortHamiltonian
 
 __all__ = ["Model"]
 
@@ -373,6 +376,50 @@ class Model:
         return SymbolicStateSpace(jac(self.rhs, x), jac(self.rhs, u), jac(self.output_exprs, x),
                                   jac(self.output_exprs, u), self.state_names, self.input_names,
                                   self.output_names, known_parameters=self.known_parameters)
+
+    def port_hamiltonian(self) -> "PortHamiltonian":
+        """Port-Hamiltonian form ``x' = (J - R) grad H + (G - P) u``,
+        ``y = (G + P)^T grad H + (S - N) u`` (see :mod:`bondgraph.hamiltonian`).
+
+        Raises
+        ------
+        PortHamiltonianError
+            Naming the element that has no such form (a nonlinear or modulated
+            R, a prescribed source, nonlinear storage in derivative causality).
+
+        Examples
+        --------
+        >>> import bondgraph as bg
+        >>> g = bg.BondGraph("msd")
+        >>> g.add(bg.Se("F"), bg.One("v"), bg.I("m"), bg.R("b"), bg.C("c"))
+        >>> for t, h in [("F", "v"), ("v", "m"), ("v", "b"), ("v", "c")]: _ = g.connect(t, h)
+        >>> ph = bg.derive(g).port_hamiltonian()
+        >>> ph.J, ph.R
+        (Matrix([
+        [0, -1],
+        [1,  0]]), Matrix([
+        [b, 0],
+        [0, 0]]))
+        """
+        from .hamiltonian import port_hamiltonian
+
+        return port_hamiltonian(self)
+
+    def energy(self) -> sympy.Expr:
+        """Stored energy ``H`` of every storage element, in the storage states.
+
+        Examples
+        --------
+        >>> import bondgraph as bg
+        >>> g = bg.BondGraph("lc")
+        >>> g.add(bg.One("i"), bg.I("L"), bg.C("C"))
+        >>> _ = g.connect("i", "L"); _ = g.connect("i", "C")
+        >>> bg.derive(g).energy()
+        p_L**2/(2*L) + q_C**2/(2*C)
+        """
+        from .hamiltonian import energy
+
+        return energy(self)
 
     def descriptor_form(self) -> SymbolicStateSpace:
         """``E x' = A x + B u`` as derived, before eliminating dependent storage.

@@ -23,6 +23,7 @@ import sympy
 import bondgraph as bg
 from bondgraph.beam import BeamParameterError
 from bondgraph.identification import IdentificationError
+from bondgraph.errors import NonlinearModelError
 from bondgraph.numeric import NumericError, SimulationError
 from bondgraph.tf import InvalidOptionError, ShapeError, UnknownSignalError
 
@@ -427,6 +428,12 @@ def nonlinear_state_space(d):
     for t, h in [("F", "v"), ("v", "m"), ("v", "k")]:
         g.connect(t, h)
     bg.derive(g).state_space()
+
+
+@case("symbolic", "port_hamiltonian() of a model with a nonlinear damper", NonlinearModelError,
+      r"R:Rf: the nonlinear law f\*\*3 .*needs linear R elements")
+def port_hamiltonian_nonlinear_r(d):
+    damped(bg.R("Rf", law=bg.f ** 3)).port_hamiltonian()
 
 
 @case("symbolic", "linearize about a point that is not an equilibrium", bg.NonlinearModelError,
