@@ -63,18 +63,48 @@ def latex_name(name: str) -> str:
 
 
 def latex_dot(name: str) -> str:
-    r"""LaTeX of the time derivative of a state name.
+    r"""LaTeX of the time derivative of a state (or signal) name.
+
+    The name prints as :func:`latex_name` does, with the dot over the base
+    symbol only and subscripts and superscripts outside: ``x_2`` reads
+    :math:`\dot{x}_{2}`, not :math:`\dot{x_{2}}`.  This is how sympy prints a
+    symbol with the ``dot`` modifier (``Symbol("xdot_2")``) and the time
+    derivative of ``x_2(t)`` (``sympy.physics.vector.vlatex``), and how the
+    seed papers write them (``\dot{\eta}_1(t)``, Soares et al., Eq. 22).  A sub-model path stays upright and
+    undotted: the state ``p_link.m_1`` reads :math:`\dot{p}_{\mathrm{link}.m_{1}}`,
+    the signal ``link.a_1`` reads :math:`\mathrm{link}.\dot{a}_{1}`.
+
+    Parameters
+    ----------
+    name : str
+        State or signal name, e.g. ``"p_J"``, ``"x2"`` or ``"p_link.m_1"``.
+
+    Returns
+    -------
+    str
+        LaTeX without math delimiters.
 
     Examples
     --------
-    >>> latex_dot("p_J"), latex_dot("p_link.m_1"), latex_dot("theta")
-    ('\\dot{p}_{J}', '\\dot{p}_{\\mathrm{link}.m_{1}}', '\\dot{\\theta}')
+    >>> latex_dot("p_J"), latex_dot("x2"), latex_dot("theta_1"), latex_dot("omega")
+    ('\\dot{p}_{J}', '\\dot{x}_{2}', '\\dot{\\theta}_{1}', '\\dot{\\omega}')
+    >>> latex_dot("p_link.m_1"), latex_dot("link.a_1")
+    ('\\dot{p}_{\\mathrm{link}.m_{1}}', '\\mathrm{link}.\\dot{a}_{1}')
     """
-    head, sep, rest = name.partition("_")
-    if sep and head in _STATE_PREFIXES and rest:
-        inner = _path_latex(rest) if "." in rest else latex_name(rest)
-        return rf"\dot{{{head}}}_{{{inner}}}"
-    return rf"\dot{{{latex_name(name)}}}"
+    import sympy
+    from sympy.printing.conventions import split_super_sub
+
+    if "." in name:
+        head, sep, rest = name.partition("_")
+        if sep and head in _STATE_PREFIXES and "." in rest:
+            return f"{latex_dot(head)}_{{{_path_latex(rest)}}}"
+        *prefix, local = name.split(".")
+        return ".".join([rf"\mathrm{{{p}}}" for p in prefix] + [latex_dot(local)])
+    base, sups, subs = split_super_sub(name)
+    if not base:
+        return rf"\dot{{{latex_name(name)}}}"
+    dotted = base + "dot" + "".join("_" + x for x in subs) + "".join("__" + x for x in sups)
+    return sympy.latex(sympy.Symbol(dotted))
 
 
 def _path_latex(path: str) -> str:

@@ -94,6 +94,32 @@ def test_simulate_sampled_accepts_control_statespace():
     np.testing.assert_allclose(y, 1 - np.exp(-2 * 0.5 * np.arange(5)))
 
 
+@pytest.mark.parametrize("method", ["zoh", "foh"])
+def test_discretisation_matches_scipy_cont2discrete(method):
+    """The numpy Padé exponential kept in sampled.py (see bench/greybox_numerics.py) gives
+    scipy's discretisation, for stiff, oscillating and integrating plants."""
+    from bondgraph.identification.sampled import _discretize
+
+    rng = np.random.default_rng(4)
+    for n, m, p, dt in ((2, 1, 1, 0.005), (8, 2, 3, 1e-3), (5, 1, 2, 0.5)):
+        A = rng.standard_normal((n, n)) * 50.0
+        A[:, 0] = 0.0                                         # an integrator
+        B, C, D = rng.standard_normal((n, m)), rng.standard_normal((p, n)), rng.standard_normal((p, m))
+        ours = _discretize(A, B, C, D, dt, method)
+        ref = scipy.signal.cont2discrete((A, B, C, D), dt, method=method)[:4]
+        for X, R in zip(ours, ref):
+            np.testing.assert_allclose(X, R, rtol=1e-11, atol=1e-13 * np.abs(R).max())
+
+
+def test_greybox_module_keeps_its_import_path():
+    """greybox.py was split into data / sampled / greybox / greybox_result modules."""
+    import bondgraph.identification as ident
+    from bondgraph.identification import greybox
+
+    for name in ("TimeData", "FrequencyData", "GreyboxResult", "greybox_fit", "simulate_sampled"):
+        assert getattr(greybox, name) is getattr(ident, name)
+
+
 # ----------------------------------------------------------------- noise-free recovery
 def test_time_fit_recovers_all_parameters_noise_free(msd):
     u = prbs(7, clock_divider=3)

@@ -12,7 +12,9 @@ The workflow of the FLEXCAM / multibody papers:
 * :func:`greybox_fit` — physical parameters of a bond-graph model fitted to
   time (:class:`TimeData`) or frequency (:class:`FrequencyData`) data, with
   standard errors and confidence intervals; :func:`simulate_sampled` — exact
-  sampled response of a plant to a held input.
+  sampled response of a plant to a held input.  Grey-box modules, in pipeline
+  order: ``data`` (the records) -> ``sampled`` (the model's response) ->
+  ``greybox`` (the fit) -> ``greybox_result``.
 
 All invalid arguments raise :class:`IdentificationError` (a ``ValueError``).
 """

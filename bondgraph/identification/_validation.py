@@ -106,3 +106,30 @@ def readonly_copy(x: ArrayLike, dtype: DTypeLike = float) -> NDArray:
     arr = np.array(x, dtype=dtype, copy=True)
     arr.setflags(write=False)
     return arr
+
+
+def finite_array(x: ArrayLike, name: str, *, dtype: DTypeLike = float,
+                 ndim: tuple[int, ...] = (1, 2)) -> NDArray:
+    """``x`` as an array of ``dtype`` with ``ndim`` dimensions and no NaN/inf, or raise.
+
+    Examples
+    --------
+    >>> finite_array([[1, 2]], "u").shape
+    (1, 2)
+    >>> finite_array([1.0, float("inf")], "y")
+    Traceback (most recent call last):
+    ...
+    bondgraph.identification._validation.IdentificationError: y: expected finite values, found 1 NaN/inf entries
+    """
+    try:
+        arr = np.asarray(x, dtype=dtype)
+    except (TypeError, ValueError):
+        raise IdentificationError(f"{name}: expected an array of numbers") from None
+    if arr.ndim not in ndim:
+        raise IdentificationError(
+            f"{name}: expected an array with {' or '.join(map(str, ndim))} dimension(s), "
+            f"got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        bad = int(np.count_nonzero(~np.isfinite(arr)))
+        raise IdentificationError(f"{name}: expected finite values, found {bad} NaN/inf entries")
+    return arr

@@ -10,6 +10,14 @@ The public API (also re-exported by :mod:`bondgraph.transfer`):
   :func:`factored_latex`, :func:`state_equations_latex`,
   :func:`state_space_latex`, :func:`matrix_latex`.
 
+Modules, in pipeline order: ``_checks`` (arguments) -> ``_algebra`` (exact
+ring arithmetic: ``_rings``, ``_encode``, ``_determinants``, ``_cancel``) ->
+``_convert`` (sympy Polys, normalization) -> ``symbolic_tf`` /
+``matrix`` (:class:`SymbolicTF`, :class:`TransferMatrix`) -> ``_exact``
+(evaluation at parameter values) -> ``numeric_tf`` (:class:`NumericTF`,
+:class:`NumericTransferMatrix`); ``symbolic`` holds the entry points,
+``latex`` and ``tables`` the printing.
+
 Examples
 --------
 >>> import sympy as sp

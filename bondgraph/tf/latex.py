@@ -20,9 +20,8 @@ from typing import Sequence
 
 import numpy as np
 import sympy as sp
-from sympy.printing.conventions import split_super_sub
 
-from .._labels import latex_name, tex
+from .._labels import latex_dot, latex_name, tex
 from ..values import as_matrix
 from ._terms import monomial, numeric_sum, poly_terms, symbolic_sum
 from .errors import InvalidOptionError, ShapeError
@@ -54,7 +53,10 @@ def name_latex(name: str) -> str:
 
 
 def dot_latex(name: str) -> str:
-    r"""LaTeX of the time derivative of a state name.
+    r"""LaTeX of the time derivative of a state name (:func:`bondgraph._labels.latex_dot`).
+
+    The dot goes over the symbol, subscripts stay outside, as sympy prints
+    ``Symbol("xdot_2")``.
 
     Parameters
     ----------
@@ -70,16 +72,7 @@ def dot_latex(name: str) -> str:
     >>> dot_latex("p_J"), dot_latex("omega"), dot_latex("x2")
     ('\\dot{p}_{J}', '\\dot{\\omega}', '\\dot{x}_{2}')
     """
-    if "." in name:
-        return f"\\dot{{{latex_name(name)}}}"
-    base, sups, subs = split_super_sub(name)
-    if not base:
-        return f"\\dot{{{name_latex(name)}}}"
-    rebuilt = base + "dot" + "".join("_" + x for x in subs) + "".join("__" + x for x in sups)
-    try:
-        return sp.latex(sp.Symbol(rebuilt))
-    except Exception:  # pragma: no cover - exotic names
-        return f"\\dot{{{name_latex(name)}}}"
+    return latex_dot(name)
 
 
 def _combo(terms: Sequence[tuple[object, str]], *, numeric: bool = False,
@@ -433,10 +426,10 @@ def state_equations_latex(A, B, state_names: Sequence[str] | None = None,
     lines = []
     for i in range(n):
         if E is None:
-            left = dot_latex(xs[i])
+            left = latex_dot(xs[i])
         else:
             Em = as_matrix(E, what="E", error=ShapeError)
-            left = _combo([(Em[i, j], dot_latex(xs[j])) for j in range(n)])
+            left = _combo([(Em[i, j], latex_dot(xs[j])) for j in range(n)])
         right = _combo([(A[i, j], xl[j]) for j in range(n)]
                        + [(B[i, j], ul[j]) for j in range(len(us))])
         lines.append(f"{left} &= {right}")
@@ -452,7 +445,7 @@ def state_equations_latex(A, B, state_names: Sequence[str] | None = None,
 
 
 def _vector(names, dotted=False) -> str:
-    items = [dot_latex(x) if dotted else name_latex(x) for x in names]
+    items = [latex_dot(x) if dotted else name_latex(x) for x in names]
     return "\\left[\\begin{matrix}" + "\\\\".join(items) + "\\end{matrix}\\right]"
 
 

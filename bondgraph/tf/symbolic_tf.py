@@ -1,0 +1,268 @@
+"""Single-input single-output symbolic transfer functions: :class:`SymbolicTF`.
+
+A :class:`SymbolicTF` holds ``num(s)/den(s)`` as sympy ``Poly`` objects in
+``s`` whose coefficients are polynomials (or rational functions) of the
+parameters; :meth:`SymbolicTF.subs` evaluates them exactly
+(:mod:`bondgraph.tf._exact`) into a :class:`~bondgraph.tf.numeric_tf.NumericTF`.
+The entry points building one from state-space matrices are in
+:mod:`bondgraph.tf.symbolic`.
+
+Examples
+--------
+>>> import sympy as sp
+>>> tau, s = sp.symbols("tau s", positive=True)
+>>> SymbolicTF.from_expr(1/(tau*s + 1), s, normalize="as-derived").subs({"tau": 0.5}).poles()
+array([-2.])
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from typing import Mapping, Sequence
+
+import numpy as np
+import sympy as sp
+
+from ..parameters import exact_value, match_values
+from ..values import as_expr
+from . import _algebra as alg
+from ._checks import Normalize, _check_options
+from ._convert import _Converter, _normalize
+from ._exact import _domain_gens, _poly_values, _value_map
+from ._terms import poly_terms, symbolic_sum
+from .errors import InvalidOptionError, SingularPencilError
+from .latex import tf_latex
+from .numeric_tf import NumericTF
+from .tables import PoleZeroTable
+
+__all__ = ["SymbolicTF"]
+
+
+def _poly_str(coeffs: Sequence[sp.Expr], s: sp.Symbol) -> str:
+    return symbolic_sum(poly_terms(coeffs, str(s), power="{}**{}"), text=str, group="({})*{}",
+                        product="{}*{}")
+
+
+@dataclass(frozen=True)
+class SymbolicTF:
+    """Transfer function ``num(s)/den(s)`` with symbolic coefficients.
+
+    ``num`` and ``den`` are sympy ``Poly`` in ``s`` whose coefficients are
+    polynomials (or, for ``normalize='monic'``, rational functions) of the
+    parameters.  Built by :func:`transfer_function`.
+
+    Examples
+    --------
+    >>> import sympy as sp
+    >>> a, b, s = sp.symbols("a b s")
+    >>> G = SymbolicTF(sp.Poly(1, s), sp.Poly(a*s**2 + b*s, s), "E_in", "Theta")
+    >>> G.den_coeffs
+    (a, b, 0)
+    >>> G.to_latex()
+    '\\\\frac{\\\\Theta(s)}{E_{in}(s)} = \\\\frac{1}{a s^{2} + b s}'
+    >>> G.subs({a: 2, b: 4}).poles()
+    array([-2.,  0.])
+    """
+
+    num: sp.Poly
+    den: sp.Poly
+    input_name: str = "u"
+    output_name: str = "y"
+    #: names of every parameter of the model definition (see :mod:`bondgraph.parameters`)
+    known_parameters: tuple[str, ...] = field(default=(), compare=False, repr=False)
+
+    def __post_init__(self):
+        for label in ("num", "den"):
+            P = getattr(self, label)
+            if not isinstance(P, sp.Poly) or len(P.gens) != 1:
+                raise InvalidOptionError(f"{label}: expected a univariate sympy Poly, "
+                                         f"got {P!r}")
+        if self.num.gen != self.den.gen:
+            raise InvalidOptionError(f"num, den: expected the same variable, got "
+                                     f"{self.num.gen} and {self.den.gen}")
+        if self.den.is_zero:
+            raise SingularPencilError("den: expected a nonzero polynomial, got 0")
+
+    @classmethod
+    def from_expr(cls, expr, s: sp.Symbol | None = None, *, input_name: str = "u",
+                  output_name: str = "y", normalize: Normalize = "monic",
+                  cancel: bool = True) -> "SymbolicTF":
+        """A transfer function from a rational expression in ``s``.
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> K, tau, s = sp.symbols("K tau s", positive=True)
+        >>> SymbolicTF.from_expr(K/(tau*s + 1), s).expr
+        K/(tau*(s + 1/tau))
+        >>> SymbolicTF.from_expr(K/(tau*s + 1), s, normalize="as-derived").den_coeffs
+        (tau, 1)
+        """
+        _check_options(normalize, "auto")
+        s = sp.Symbol("s") if s is None else s
+        expr = as_expr(expr, what="expr", error=InvalidOptionError)
+        if not isinstance(s, sp.Symbol):
+            raise InvalidOptionError(f"s: expected a sympy Symbol, got {type(s).__name__} {s!r}")
+        return _tf_from_exprs(expr, sp.Integer(1), s, input_name, output_name,
+                              normalize, cancel=cancel)
+
+    # -- views --------------------------------------------------------------------
+    @property
+    def s(self) -> sp.Symbol:
+        """The Laplace variable."""
+        return self.num.gen
+
+    @property
+    def num_coeffs(self) -> tuple[sp.Expr, ...]:
+        """Numerator coefficients, highest power of ``s`` first."""
+        return tuple(self.num.all_coeffs())
+
+    @property
+    def den_coeffs(self) -> tuple[sp.Expr, ...]:
+        """Denominator coefficients, highest power of ``s`` first."""
+        return tuple(self.den.all_coeffs())
+
+    @property
+    def expr(self) -> sp.Expr:
+        """``num/den`` as a sympy expression."""
+        return self.num.as_expr() / self.den.as_expr()
+
+    @property
+    def order(self) -> int:
+        """Degree of the denominator."""
+        return self.den.degree()
+
+    @property
+    def parameters(self) -> tuple[sp.Symbol, ...]:
+        """Free symbols of the coefficients, sorted by name."""
+        syms = set()
+        for c in self.num_coeffs + self.den_coeffs:
+            syms |= c.free_symbols
+        return tuple(sorted(syms, key=lambda x: x.name))
+
+    @property
+    def is_proper(self) -> bool:
+        """``deg num <= deg den``; False for input-derivative feedthrough.
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> m, b = sp.symbols("m b", positive=True)
+        >>> from bondgraph.tf import transfer_function
+        >>> G = transfer_function(sp.zeros(0, 0), sp.zeros(0, 1), sp.zeros(1, 0),
+        ...                       [[m*sp.Symbol("s") + b]])      # F = (m s + b) v
+        >>> G.expr, G.is_proper, G.subs({"m": 2, "b": 3})(1j)
+        (b + m*s, False, (3+2j))
+        """
+        return self.num.is_zero or self.num.degree() <= self.den.degree()
+
+    # -- numeric --------------------------------------------------------------------
+    def subs(self, values: Mapping | None = None, *, partial: bool = False):
+        """Numeric transfer function for parameter ``values``.
+
+        ``values`` maps symbols or their names to numbers, matched by the
+        package-wide policy (:mod:`bondgraph.parameters`): an unknown or
+        misspelled name is an error listing the valid ones; names of the
+        model definition that this transfer function does not use are
+        ignored.  Evaluation is exact (floats are read as their decimal
+        representation), so coefficients that vanish, symbolically or at
+        these values, are exactly ``0.0``.
+
+        Parameters
+        ----------
+        values : mapping of parameter name (or Symbol) to number
+        partial : bool, optional
+            With ``True``, parameters may be left without a value and the
+            result is a :class:`SymbolicTF` with the given values substituted
+            exactly; with ``False`` (default) every parameter needs a value
+            and the result is a :class:`NumericTF`.
+
+        Raises
+        ------
+        ParameterValueError
+            Unknown name or a value that is not a finite real number;
+            :class:`MissingValueError` if a parameter has no value.
+
+        Examples
+        --------
+        >>> import sympy as sp
+        >>> m, b, s = sp.symbols("m b s")
+        >>> G = SymbolicTF.from_expr(1/(m*s + b), s, normalize="as-derived")
+        >>> G.subs({"m": 2, "b": 0.5}).den
+        (2.0, 0.5)
+        >>> G.subs({"m": 2}, partial=True).expr
+        1/(b + 2*s)
+        >>> G.subs({"mm": 2, "b": 1})
+        Traceback (most recent call last):
+        ...
+        bondgraph.errors.ParameterValueError: unknown parameter 'mm' (did you mean 'm'?); missing m. Valid names: b, m
+        """
+        if partial:
+            params = sorted((self.num.as_expr().free_symbols | self.den.as_expr().free_symbols)
+                            - {self.s}, key=lambda x: x.name)
+            given = match_values(params, values, known=self.known_parameters, partial=True)
+            exact = {p: exact_value(v, p.name) for p, v in given.items()}
+            return replace(self, num=sp.Poly(self.num.as_expr().xreplace(exact), self.s),
+                           den=sp.Poly(self.den.as_expr().xreplace(exact), self.s))
+        gens = tuple(dict.fromkeys(_domain_gens(self.num) + _domain_gens(self.den)))
+        vm = _value_map(gens, values, self.known_parameters)
+        return NumericTF(tuple(_poly_values(self.num, gens, vm)),
+                         tuple(_poly_values(self.den, gens, vm)),
+                         self.input_name, self.output_name, str(self.s))
+
+    def poles(self, values: Mapping | None = None) -> np.ndarray:
+        """Poles (numerically, after :meth:`subs`)."""
+        return self.subs(values).poles()
+
+    def zeros(self, values: Mapping | None = None) -> np.ndarray:
+        """Zeros (numerically, after :meth:`subs`)."""
+        return self.subs(values).zeros()
+
+    def table(self, values: Mapping | None = None, *, digits: int = 4) -> PoleZeroTable:
+        """Pole/zero table after :meth:`subs`."""
+        return self.subs(values).table(digits=digits)
+
+    def to_control(self, values: Mapping | None = None, *, name: str | None = None):
+        """``control.TransferFunction`` (after :meth:`subs`), with names."""
+        return self.subs(values).to_control(name=name)
+
+    # -- printing -------------------------------------------------------------------
+    def to_latex(self, *, form: str = "coefficients", lhs: bool | str = True,
+                 num_letter: str = "a", den_letter: str = "b") -> str:
+        """LaTeX; ``form='coefficients'`` or ``'named'`` (see :func:`tf_latex`)."""
+        return tf_latex(self.num_coeffs, self.den_coeffs, input_name=self.input_name,
+                        output_name=self.output_name, s=sp.latex(self.s), form=form,
+                        lhs=lhs, num_letter=num_letter, den_letter=den_letter)
+
+    def _repr_latex_(self) -> str:
+        return "$\\displaystyle " + self.to_latex() + "$"
+
+    def __str__(self) -> str:
+        num = _poly_str(self.num_coeffs, self.s)
+        den = _poly_str(self.den_coeffs, self.s)
+        if den == "1":
+            return f"{self.output_name}/{self.input_name} = {num}"
+        return f"{self.output_name}/{self.input_name} = ({num})/({den})"
+
+
+
+def _tf_from_exprs(num: sp.Expr, den: sp.Expr, s: sp.Symbol, input_name: str,
+                   output_name: str, normalize: str, *, cancel: bool = True,
+                   backend: str | None = None) -> SymbolicTF:
+    n, d = sp.fraction(sp.together(sp.sympify(num, strict=True) / sp.sympify(den, strict=True)))
+    if d == 0:
+        raise SingularPencilError("den: expected a nonzero expression, got 0")
+    ring, params, (pn, pd) = alg.polys_from_exprs([n, d], s, backend=backend)
+    k = len(params)
+    pn, pd = alg.to_sdict(pn, ring, k), alg.to_sdict(pd, ring, k)
+    return _entry(_Converter(ring, params), pn, pd, s, input_name, output_name, normalize,
+                  cancel=cancel)
+
+
+def _entry(conv: _Converter, num: dict, den: dict, s: sp.Symbol, input_name: str,
+           output_name: str, normalize: str, *, cancel: bool) -> SymbolicTF:
+    """One transfer function from ring s-dicts: optionally cancelled, then normalized."""
+    if cancel:
+        num, den = alg.cancel_common(num, den, conv.ring, conv.k)
+    Pd, (Pn,) = _normalize(conv, den, [num], normalize, s)
+    return SymbolicTF(Pn, Pd, input_name, output_name)
