@@ -31,6 +31,7 @@ import sys
 from pathlib import Path
 from typing import Literal, Mapping, Optional, Sequence, overload
 
+from ._labels import latex_dot, latex_name, tex
 from .errors import BondGraphError, ParameterValueError
 from .parameters import match_values
 
@@ -215,7 +216,6 @@ def _transfer_module():
 
 # --------------------------------------------------------------------------- commands
 def _cmd_equations(args) -> None:
-    import sympy
 
     defn, model = _load(args.model)
     out = [f"model {model.name!r}" + (f": {defn.description}" if defn.description else "")]
@@ -227,9 +227,9 @@ def _cmd_equations(args) -> None:
     out.append(f"parameters ({len(params)}): {', '.join(params) or '-'}")
     out.append("")
     if args.latex:
-        lines = [f"\\dot{{{sympy.latex(s)}}} &= {sympy.latex(r)}" for s, r in zip(model.states, model.rhs)]
-        lines += [f"{sympy.latex(sympy.Symbol(n))} &= {sympy.latex(g)}"
-                  for n, g in zip(model.output_names, model.output_exprs)]
+        # the one LaTeX naming helper of the package (bondgraph._labels): \dot{p}_{La}
+        lines = [f"{latex_dot(s.name)} &= {tex(r)}" for s, r in zip(model.states, model.rhs)]
+        lines += [f"{latex_name(n)} &= {tex(g)}" for n, g in zip(model.output_names, model.output_exprs)]
         out += ["\\begin{aligned}", " \\\\\n".join(lines), "\\end{aligned}"]
     else:
         out += [f"d{s.name}/dt = {r}" for s, r in zip(model.states, model.rhs)]

@@ -95,7 +95,7 @@ def test_equations(capsys):
     assert "states (2): p_La, p_J" in out and "J = 0.02" in out
     assert "dp_La/dt = V - Ra*p_La/La - K*p_J/J" in out and "omega = p_J/J" in out
     code, out, _ = run(capsys, "equations", MOTOR, "--latex")
-    assert code == 0 and "\\begin{aligned}" in out and "\\dot{p_{La}}" in out
+    assert code == 0 and "\\begin{aligned}" in out and "\\dot{p}_{La} &= V" in out
 
 
 def test_tf_symbolic_and_numeric(capsys):
