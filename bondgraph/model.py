@@ -24,6 +24,7 @@ from .values import as_expr
 
 if TYPE_CHECKING:
     from .hamiltonian import PortHamiltonian
+    from .operating import Equilibrium
 
 __all__ = ["Model"]
 
@@ -310,14 +311,47 @@ class Model:
         from .drawing import repr_svg
         return repr_svg(self.augmented)
 
-    def linearize(self, x0=None, u0=None, *, equilibrium: bool = True,
-                  tol: float = 1e-9) -> SymbolicStateSpace:
+    def equilibrium(self, values, inputs=None, *, guess=None, fixed=None, tol: float = 1e-10,
+                    exact: bool = True) -> "Equilibrium":
+        """Operating point ``f(x0, u0) = 0`` at numeric parameter values (trim).
+
+        See :func:`bondgraph.operating.equilibrium`: exact (sympy) for small
+        polynomial systems, else :func:`scipy.optimize.root` from ``guess``;
+        the point must be isolated (``fixed=`` holds states no equation
+        determines).  Pass the result to :meth:`linearize` for the plant there.
+
+        Examples
+        --------
+        >>> import bondgraph as bg, sympy
+        >>> m, g_, l = sympy.symbols("m g l", positive=True)
+        >>> g = bg.BondGraph("pendulum")
+        >>> w = bg.One("w")
+        >>> g.add(bg.Se("T"), w, bg.I("J"), bg.R("b"), bg.C("grav", law=m*g_*l*sympy.sin(bg.q)))
+        >>> for t, h in [("T", w), (w, "J"), (w, "b"), (w, "grav")]: _ = g.connect(t, h)
+        >>> vals = {"m": 1.0, "g": 9.81, "l": 0.5, "J": 0.25, "b": 0.1}
+        >>> eq = bg.derive(g).equilibrium(vals, {"T": 0.0}, guess={"q_grav": 3.0})
+        >>> round(eq.states["q_grav"], 12)        # hanging up: theta = pi
+        3.14159265359
+        """
+        from .operating import equilibrium
+
+        return equilibrium(self, values, inputs, guess=guess, fixed=fixed, tol=tol, exact=exact)
+
+    def linearize(self, x0=None, u0=None, *, values=None, equilibrium: bool = True,
+                  tol: float = 1e-9):
         """Linearize about an operating point ``(x0, u0)`` by symbolic Jacobians.
+
+        With numeric parameter ``values`` (or an :class:`~bondgraph.operating.Equilibrium`
+        as ``x0``, which carries its inputs and values) the result is a numeric
+        plant: a :class:`~bondgraph.numeric.NumericStateSpace` with names, ready
+        for ``.to_control()``.
 
         Parameters
         ----------
-        x0, u0 : mapping of state / input name (or symbol) to value
+        x0, u0 : mapping of state / input name (or symbol) to value, or an Equilibrium
             Every state and input needs a value (numbers or sympy expressions).
+        values : mapping of parameter name to number, optional
+            Parameter values: the result is then numeric.
         equilibrium : bool
             When True (default), ``f(x0, u0)`` must vanish; otherwise the
             linearization about a non-equilibrium point is returned (the
@@ -334,8 +368,9 @@ class Model:
 
         Returns
         -------
-        SymbolicStateSpace
-            In deviation variables ``x - x0``, ``u - u0``.
+        SymbolicStateSpace or NumericStateSpace
+            In deviation variables ``x - x0``, ``u - u0``; numeric when values
+            are given.
 
         Examples
         --------
@@ -351,6 +386,12 @@ class Model:
         [  0, -g*l*m],
         [1/J,      0]])
         """
+        from .operating import Equilibrium, linear_plant
+
+        if isinstance(x0, Equilibrium) or values is not None:
+            if values is None:
+                values = dict(x0.values)
+            return linear_plant(self, x0, u0, values, tol=max(tol, 1e-9))
         x, u = self.states, self.inputs
         point = {**_point(self, x0, x, "state"), **_point(self, u0, u, "input")}
         bad = set(self.input_derivatives) | {T_SYM}
