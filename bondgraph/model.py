@@ -133,8 +133,20 @@ class Model:
 
     @property
     def equations(self) -> tuple[sympy.Eq, ...]:
-        """``Eq(Derivative(x, t), f)`` for each state, then ``Eq(y, g)``."""
-        eqs = [sympy.Eq(sympy.Symbol(f"d{s.name}/dt"), r, evaluate=False)
+        """``Eq(Derivative(x, t), f)`` for each state, then ``Eq(y, g)``.
+
+        The derivatives are unevaluated (``sympy.latex`` prints
+        ``\frac{d}{d t} p_{m}``); :meth:`to_latex` prints the dotted form.
+
+        Examples
+        --------
+        >>> import bondgraph as bg
+        >>> g = bg.BondGraph("mass")
+        >>> g.add(bg.Se("F"), bg.I("m")); _ = g.connect("F", "m")
+        >>> bg.derive(g, outputs={"v": bg.flow("m")}).equations
+        (Eq(Derivative(p_m, t), F), Eq(v, p_m/m))
+        """
+        eqs = [sympy.Eq(sympy.Derivative(s, T_SYM, evaluate=False), r, evaluate=False)
                for s, r in zip(self.states, self.rhs)]
         eqs += [sympy.Eq(sympy.Symbol(n), g, evaluate=False)
                 for n, g in zip(self.output_names, self.output_exprs)]
@@ -303,6 +315,40 @@ class Model:
         G = transfer_matrix(A, B, C, D, E=E, input_names=self.input_names,
                             output_names=self.output_names, s=s, **options)
         return dataclasses.replace(G, known_parameters=self.known_parameters)
+
+    def to_latex(self, *, matrices: bool = False) -> str:
+        r"""The model as a paper prints it: ``\dot{p}_{m} &= ...`` lines, then the outputs.
+
+        Parameters
+        ----------
+        matrices : bool
+            Append the ``A, B, C, D`` (or descriptor) form of a linear model.
+
+        Returns
+        -------
+        str
+            An ``aligned`` environment (without ``$$``), ready for an
+            ``equation`` environment; names printed by the package's one
+            LaTeX naming helper (sub-model paths upright).
+
+        Examples
+        --------
+        >>> import bondgraph as bg
+        >>> g = bg.BondGraph("rc")
+        >>> g.add(bg.Se("V"), bg.One("i"), bg.R("R"), bg.C("C"))
+        >>> for t, h in [("V", "i"), ("i", "R"), ("i", "C")]: _ = g.connect(t, h)
+        >>> print(bg.derive(g, outputs={"vC": bg.effort("C")}).to_latex())
+        \begin{aligned}
+        \dot{q}_{C} &= \frac{V - \frac{q_{C}}{C}}{R} \\
+        vC &= \frac{q_{C}}{C}
+        \end{aligned}
+        """
+        body = _equations_latex(self)[len(r"$$\begin{aligned}"):-len(r"\end{aligned}$$")]
+        text = "\\begin{aligned}\n" + body.replace(" \\\\ ", " \\\\\n") + "\n\\end{aligned}"
+        if matrices:
+            form = self.descriptor_form() if self.descriptor is not None else self.state_space()
+            text += "\n" + form.to_latex()
+        return text
 
     def _repr_latex_(self) -> str:
         return _equations_latex(self)
