@@ -160,5 +160,8 @@ class SymbolicStateSpace(SignalCounts):
         for label in ("E", "A", "B", "C", "D"):
             mat = getattr(self, label)
             if mat is not None:
-                parts.append(f"{label} = {sympy.pretty(mat, use_unicode=False)}")
+                rows = sympy.pretty(mat, use_unicode=False).splitlines()
+                pad = " " * len(f"{label} = ")
+                mid = len(rows) // 2
+                parts += [(f"{label} = " if i == mid else pad) + row for i, row in enumerate(rows)]
         return "\n".join(parts)

@@ -77,3 +77,19 @@ def test_latex_compiles(tmp_path, build):
                          cwd=tmp_path, capture_output=True, text=True, timeout=120)
     assert run.returncode == 0, run.stdout[-2000:]
     assert (tmp_path / "m.pdf").stat().st_size > 1000
+
+
+def test_state_space_print_aligns_matrix_rows():
+    # every row of a printed matrix starts in the column after "A = "
+    text = str(dc_motor().state_space())
+    a_rows = [ln for ln in text.splitlines() if ln.startswith("A = ") or
+              (ln.startswith("    [") and not ln.startswith("     "))]
+    assert a_rows and all(ln[4] == "[" for ln in a_rows)
+    assert sum(ln.startswith("A = ") for ln in text.splitlines()) == 1
+
+
+def test_pole_zero_table_html():
+    from bondgraph.tf.tables import pole_zero_table
+    html = pole_zero_table([1.0, 0.0], [1.0, 3.0, 2.0])._repr_html_()   # s/((s+1)(s+2))
+    assert html.startswith("<table>") and html.count("<tr>") == 4
+    assert "<td>zero</td><td>0</td>" in html

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 NOTEBOOKS = Path(__file__).resolve().parents[1] / "notebooks"
-NAMES = ("01_srv02_hub", "02_flexcam", "03_appendages")
+NAMES = ("01_srv02_hub", "02_flexcam", "03_appendages", "04_identification", "05_control")
 
 
 def _load(name):

@@ -244,6 +244,22 @@ class PoleZeroTable:
         out += [body, "\\end{table}"]
         return "\n".join(out)
 
+    def _repr_html_(self) -> str:
+        """An HTML table for notebooks and the documentation site (text escaped).
+
+        Examples
+        --------
+        >>> "<td>pole</td><td>-2</td>" in pole_zero_table([1.0], [1.0, 2.0])._repr_html_()
+        True
+        """
+        from html import escape
+
+        head = ["kind", "root", "&omega;<sub>n</sub> (rad/s)", "f (Hz)", "&zeta;"]
+        rows = ["<tr>" + "".join(f"<th>{h}</th>" for h in head) + "</tr>"]
+        rows += ["<tr>" + "".join(f"<td>{escape(c)}</td>" for c in cells) + "</tr>"
+                 for cells in self._cells()]
+        return "<table>\n" + "\n".join(rows) + "\n</table>"
+
     def _repr_latex_(self) -> str:
         """MathJax-friendly ``array`` (Jupyter does not render ``tabular``)."""
         d = self.digits
