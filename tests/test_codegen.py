@@ -206,6 +206,25 @@ def test_sanitize_keeps_valid_names_and_resolves_clashes():
     assert sanitize(["_a", "motor.Ra"], matlab=True) == ("v_a", "motor_Ra")
 
 
+def test_sanitize_matches_whole_names():
+    # a trailing newline is not an identifier ($ alone would have let "m\n" through)
+    assert sanitize(["m\n", "m"]) == ("m_", "m")
+    assert sanitize(["m\n"], matlab=True) == ("m_",)
+    # "_", "__" and names made of underscores stay clear of C's reserved _X / __ (and terminate)
+    assert sanitize(["_", "\u200f", "\u00e9", "__x", "_Ab"]) == ("_", "v_", "v__2", "v__x", "v_Ab")
+    assert sanitize(["x" * 80], matlab=True) == ("x" * 58,)
+
+
+def test_names_that_would_be_macros_are_renamed_in_c():
+    g = bg.BondGraph("plant")
+    g.add(bg.Se("F"), bg.I("m", sympy.Symbol("M_PI") + sympy.Symbol("PLANT_NX") + sympy.Symbol("FP_NAN")))
+    g.connect("F", "m")
+    code = generate_c(bg.derive(g, outputs={"v": bg.flow("m")}))
+    # M_PI_2 is a macro too (pi/2)
+    assert dict(code.identifiers) == {"p_m": "p_m", "F": "F", "FP_NAN": "FP_NAN_2", "M_PI": "M_PI_3",
+                                      "PLANT_NX": "PLANT_NX_2"}
+
+
 # ----------------------------------------------------------------------------- Python
 def import_generated(path):
     spec = importlib.util.spec_from_file_location(f"generated_{path.stem}", path)

@@ -15,6 +15,17 @@ inputs and outputs as derived, parameters sorted by name
 * :func:`generate_matlab` / :func:`write_matlab` -- ``[xdot, y] = NAME(t, x, u, p)``.
 * :func:`generate_python` / :func:`write_python` -- a module using only :mod:`math`.
 
+Names never reach the generated text raw.  Function names and the C prefix
+must be identifiers (matched whole, so ``"abc\\n"`` is refused); every other
+name (model, states, inputs, outputs, parameters -- a parameter may be any
+sympy Symbol) is escaped for the place it lands in: C string literals with
+octal escapes and no trigraphs, Python :func:`ascii` literals, MATLAB char
+arrays (``''`` doubled, else built from UTF-8 bytes), and comments and
+docstrings that show it on one line of printable ASCII, with no ``*/`` or
+triple quote that could end them.  The generated files are ASCII.  Only a name no
+escape can carry (a NUL character, a lone surrogate) is refused, with a
+:class:`CodegenError` naming it.
+
 Examples
 --------
 >>> import bondgraph as bg

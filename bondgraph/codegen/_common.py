@@ -1,14 +1,22 @@
-"""Shared preparation for the code generators (private).
+r"""Shared preparation for the code generators (private).
 
 A model's symbols (``p_La``, ``motor.V``, ``motor.Ra``, time ``t``) are
 renamed to identifiers valid in the target language, distinct from its
 reserved words and from each other; the equations are rewritten in those
 identifiers and split into common subexpressions with :func:`sympy.cse`.
 
+Names reach generated text only through the escapes of each generator
+(string literals, comments, docstrings); :func:`check_text` refuses the few
+names no escape can carry (not text, NUL, lone surrogates), and
+:func:`shown` gives the form of a name in comments: the name itself when it
+is a (dotted) ASCII identifier, else a quoted, escaped, printable-ASCII form.
+
 Examples
 --------
 >>> sanitize(["Ra", "motor.Ra", "motor_Ra", "for"], reserved={"for"})
 ('Ra', 'motor_Ra_2', 'motor_Ra', 'for_2')
+>>> print(shown("motor.Ra"), shown('a*/ "b"\n'), shown("\u03b1"))
+motor.Ra "a*/ \"b\"\n" "\u03b1"
 """
 
 from __future__ import annotations
@@ -30,8 +38,8 @@ from ..model import Model
 from ..signals import t as T_SYM
 
 __all__ = ["CodegenError", "PreparedModel", "prepare", "sanitize", "split_cse", "C_RESERVED",
-           "PY_RESERVED", "M_RESERVED", "check_identifier", "header_lines", "TargetPrinter",
-           "write_text"]
+           "PY_RESERVED", "M_RESERVED", "check_identifier", "check_text", "shown", "header_lines",
+           "TargetPrinter", "write_text"]
 
 
 class CodegenError(BondGraphError, ValueError):
@@ -44,7 +52,12 @@ unsigned void volatile while _Bool _Complex _Imaginary bool true false NULL""".s
 _C_MATH = """acos acosh asin asinh atan atan2 atanh cbrt ceil copysign cos cosh erf erfc exp exp2 expm1
 fabs fdim floor fma fmax fmin fmod frexp hypot ilogb ldexp lgamma llrint llround log log10 log1p log2
 logb lrint lround modf nan nearbyint nextafter pow remainder remquo rint round scalbn sin sinh sqrt tan
-tanh tgamma trunc j0 j1 jn y0 y1 yn gamma signbit isnan isinf isfinite HUGE_VAL INFINITY NAN""".split()
+tanh tgamma trunc j0 j1 jn y0 y1 yn gamma signbit isnan isinf isfinite HUGE_VAL INFINITY NAN
+HUGE_VALF HUGE_VALL FP_NAN FP_INFINITE FP_ZERO FP_SUBNORMAL FP_NORMAL FP_ILOGB0 FP_ILOGBNAN FP_FAST_FMA
+FP_FAST_FMAF FP_FAST_FMAL MATH_ERRNO MATH_ERREXCEPT math_errhandling fpclassify isnormal isgreater
+isgreaterequal isless islessequal islessgreater isunordered float_t double_t HUGE MAXFLOAT DOMAIN SING
+OVERFLOW UNDERFLOW TLOSS PLOSS X_TLOSS offsetof ptrdiff_t wchar_t entry""".split()  # macros of <math.h>,
+# <stddef.h> (a local named after a macro would be rewritten by it) and the printer's reserved words
 _COMMON_ARGS = ["t", "x", "u", "p", "xdot", "y"]   # arguments of the generated functions
 
 #: identifiers generated C code must not use for model symbols
@@ -60,21 +73,144 @@ otherwise parfor persistent return spmd switch try unwind_protect unwind_protect
 end_try_catch endfunction endif endfor endwhile endswitch do until
 pi e i j Inf inf NaN nan eps abs sign sqrt exp log log10 log2 sin cos tan asin acos atan atan2 sinh cosh
 tanh asinh acosh atanh floor ceil mod rem max min heaviside gamma erf besselj zeros ones struct isstruct
-nargin nargout numel isfield error real imag""".split() + _COMMON_ARGS)
+nargin nargout numel isfield error real imag native2unicode uint8 char double cell isempty true
+false""".split() + _COMMON_ARGS)
 
-_C_IDENT = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
-_M_IDENT = re.compile(r"^[A-Za-z][A-Za-z0-9_]{0,62}$")
+# Identifiers are matched whole (fullmatch: ``$`` alone would let a trailing newline through).
+# C: not ``_X...`` nor ``__...`` (reserved to the implementation: they may be macros).
+_C_IDENT = re.compile(r"(?!_[A-Z_])[A-Za-z_][A-Za-z0-9_]*")
+_M_IDENT = re.compile(r"[A-Za-z][A-Za-z0-9_]{0,62}")
+#: names shown as they are in comments: (dotted) ASCII identifiers
+_PLAIN = re.compile(r"[A-Za-z_][A-Za-z0-9_]*(?:\.[A-Za-z_][A-Za-z0-9_]*)*")
+_NAMED_ESCAPES = {"\\": "\\\\", '"': '\\"', "\n": "\\n", "\r": "\\r", "\t": "\\t"}
 
 
 def check_identifier(name: str, *, what: str, matlab: bool = False,
                      reserved: Iterable[str] = ()) -> str:
-    """Check that ``name`` is usable as a generated function or file name."""
+    r"""Check that ``name`` is usable as a generated function name or symbol prefix.
+
+    Parameters
+    ----------
+    name : str
+        The candidate, matched whole against the identifier rule of the target.
+    what : str
+        What the name is, for the error message (``"C name prefix"``).
+    matlab : bool, default False
+        MATLAB rule (a letter first, at most 63 characters) instead of C's.
+    reserved : iterable of str
+        Words the name must not be.
+
+    Returns
+    -------
+    str
+        ``name``.
+
+    Raises
+    ------
+    CodegenError
+        Naming ``name`` and the rule it breaks.
+
+    Examples
+    --------
+    >>> check_identifier("plant", what="C name prefix")
+    'plant'
+    >>> try:
+    ...     check_identifier("abc\n", what="C name prefix")
+    ... except CodegenError as exc:
+    ...     print(str(exc)[:40])
+    C name prefix 'abc\n' is not usable: exp
+    """
     pattern = _M_IDENT if matlab else _C_IDENT
-    if not isinstance(name, str) or not pattern.match(name) or name in set(reserved):
+    if not isinstance(name, str) or not pattern.fullmatch(name) or name in set(reserved):
         rule = ("a letter followed by letters, digits or underscores (at most 63 characters)"
-                if matlab else "letters, digits and underscores, not starting with a digit")
+                if matlab else "letters, digits and underscores, not starting with a digit "
+                "(nor with _ and a capital or a second _)")
         raise CodegenError(f"{what} {name!r} is not usable: expected {rule}, and not a reserved word")
     return name
+
+
+def check_text(name: object, *, what: str) -> str:
+    r"""Check that ``name`` can be written into generated text (escaped as each place needs).
+
+    Any text can be escaped except a NUL character (it would end a C string)
+    and a lone surrogate (not Unicode, so it has no UTF-8 bytes).
+
+    Parameters
+    ----------
+    name : object
+        The name of a model, state, input, output or parameter.
+    what : str
+        What the name is, for the error message.
+
+    Returns
+    -------
+    str
+        ``name``.
+
+    Raises
+    ------
+    CodegenError
+        Naming ``name`` and what was expected.
+
+    Examples
+    --------
+    >>> check_text('a*/ "b"', what="parameter")
+    'a*/ "b"'
+    >>> try:
+    ...     check_text("a\x00b", what="parameter")
+    ... except CodegenError as exc:
+    ...     print(exc)
+    parameter 'a\x00b' cannot be written into generated code: expected a str of Unicode text without NUL characters
+    """
+    if isinstance(name, str) and "\0" not in name:
+        try:
+            name.encode("utf-8")
+        except UnicodeEncodeError:
+            pass
+        else:
+            return name
+    raise CodegenError(f"{what} {name!r} cannot be written into generated code: expected a str "
+                       "of Unicode text without NUL characters")
+
+
+def shown(name: str) -> str:
+    r"""A name as comments show it: printable ASCII on one line, never ambiguous.
+
+    A (dotted) ASCII identifier is shown as it is; any other name in double
+    quotes with C-style escapes (``\\``, ``\"``, ``\n``, ``\r``, ``\t``,
+    ``\xNN``, ``\uNNNN``, ``\UNNNNNNNN``).  Each generator adds what its
+    comments need on top (C: no ``*/``, ``/*`` or trigraphs).
+
+    Parameters
+    ----------
+    name : str
+        A name accepted by :func:`check_text`.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> print(shown("motor.Ra"), shown("it's"), shown("e\u0301\u200f"), shown("\U0001f600"))
+    motor.Ra "it's" "e\u0301\u200f" "\U0001f600"
+    """
+    if _PLAIN.fullmatch(name):
+        return name
+    out = []
+    for ch in name:
+        code = ord(ch)
+        if ch in _NAMED_ESCAPES:
+            out.append(_NAMED_ESCAPES[ch])
+        elif 0x20 <= code < 0x7F:
+            out.append(ch)
+        elif code < 0x100:
+            out.append(f"\\x{code:02x}")
+        elif code < 0x10000:
+            out.append(f"\\u{code:04x}")
+        else:
+            out.append(f"\\U{code:08x}")
+    return '"' + "".join(out) + '"'
 
 
 def sanitize(names: Sequence[str], *, reserved: Iterable[str] = (), matlab: bool = False,
@@ -82,8 +218,10 @@ def sanitize(names: Sequence[str], *, reserved: Iterable[str] = (), matlab: bool
     """Distinct identifiers for ``names``; names already valid keep their spelling.
 
     Invalid characters become ``_``; a name not starting with a letter gets a
-    ``v`` prefix (MATLAB) or ``v_`` (C, Python, only when it starts with a
-    digit); a clash with a reserved word or another name adds ``_2``, ``_3``...
+    ``v`` prefix (MATLAB; C and Python: ``v_`` before a digit, ``v`` before
+    ``_``); a clash with a reserved word or another name adds ``_2``, ``_3``...
+    Identifiers are matched whole, so a name with a trailing newline is
+    rewritten, never kept.
     """
     reserved = set(reserved)
     pattern = _M_IDENT if matlab else _C_IDENT
@@ -91,7 +229,7 @@ def sanitize(names: Sequence[str], *, reserved: Iterable[str] = (), matlab: bool
     out: list[Optional[str]] = [None] * len(names)
     # pass 1: valid, unreserved names keep their spelling
     for i, name in enumerate(names):
-        if pattern.match(name) and name not in used:
+        if pattern.fullmatch(name) and name not in used:
             out[i] = name
             used.add(name)
     # pass 2: everything else is rewritten
@@ -103,10 +241,12 @@ def sanitize(names: Sequence[str], *, reserved: Iterable[str] = (), matlab: bool
             base = "v" + base
         elif not matlab and base[0].isdigit():
             base = "v_" + base
+        elif not matlab and base[0] == "_":   # "_2", "__2" from "_": never _X... or __...
+            base = "v" + base
         base = base[:58] if matlab else base
         cand = base
         for k in itertools.count(2):
-            if cand not in used and pattern.match(cand):
+            if cand not in used and pattern.fullmatch(cand):
                 break
             cand = f"{base}_{k}"
         out[i] = cand
@@ -152,6 +292,11 @@ def prepare(model: Model, *, reserved: Iterable[str], matlab: bool = False,
             f"({', '.join(s.name for s in model.input_derivatives)}); no code can be generated "
             "from input values alone")
     params = model.parameters
+    check_text(model.name, what="model name")
+    for what, group in (("state", model.state_names), ("input", model.input_names),
+                        ("output", model.output_names), ("parameter", [p.name for p in params])):
+        for text in group:
+            check_text(text, what=f"model {model.name!r}: {what} name")
     reserved = set(reserved)
     names = list(model.state_names) + list(model.input_names) + [p.name for p in params]
     ids = sanitize(names, reserved=reserved, matlab=matlab)
@@ -192,9 +337,13 @@ def split_cse(exprs: Sequence[sympy.Expr], taken: Iterable[str],
     return list(reps), list(reduced)
 
 
-def header_lines(pm: PreparedModel, *, index_base: int, xname: str = "x", uname: str = "u",
-                 yname: str = "y", pname: str = "p") -> list[str]:
-    """Human-readable order of the arrays, one line per signal, for header comments."""
+def header_lines(pm: PreparedModel, *, index_base: int, show: Callable[[str], str] = shown,
+                 xname: str = "x", uname: str = "u", yname: str = "y", pname: str = "p") -> list[str]:
+    """Human-readable order of the arrays, one line per signal, for header comments.
+
+    Every name goes through ``show``, which must make it safe for the
+    comment it lands in (:func:`shown`, plus the target's own escapes).
+    """
     def rows(title: str, arr: str, names: Sequence[str], ids: Sequence[str],
              values: Optional[Sequence[float]] = None) -> list[str]:
         out = [f"{title} ({len(names)}):"]
@@ -204,7 +353,7 @@ def header_lines(pm: PreparedModel, *, index_base: int, xname: str = "x", uname:
             open_, close = ("(", ")") if index_base == 1 else ("[", "]")
             alias = "" if nm == ident else f"  [as {ident}]"
             default = "" if values is None else f"  default {_num(values[k])}"
-            out.append(f"    {arr}{open_}{k + index_base}{close}  {nm}{alias}{default}")
+            out.append(f"    {arr}{open_}{k + index_base}{close}  {show(nm)}{alias}{default}")
         return out
 
     return (rows("states", xname, pm.state_names, pm.state_ids)

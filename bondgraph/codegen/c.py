@@ -22,6 +22,11 @@ constant over the step (fixed step, no allocation: fit for real time).  The
 code needs only ``<math.h>`` (link with ``-lm``) and compiles warning-free
 with ``-std=c99 -Wall -Wextra -pedantic``.
 
+Names are never pasted raw: the name arrays hold C string literals of the
+names' UTF-8 bytes (:func:`c_string`: octal escapes, no trigraphs), and the
+comments show a name that is not a plain (dotted) identifier as an escaped
+literal with no ``*/``, ``/*`` or ``??`` in it (:func:`c_comment`).
+
 Examples
 --------
 >>> import bondgraph as bg
@@ -43,7 +48,6 @@ Examples
 
 from __future__ import annotations
 
-import json
 import math
 import os
 import re
@@ -57,9 +61,9 @@ from sympy.printing.c import C99CodePrinter
 
 from ..model import Model
 from ._common import (C_RESERVED, CodegenError, PreparedModel, TargetPrinter, check_identifier,
-                      header_lines, prepare, split_cse)
+                      header_lines, prepare, shown, split_cse)
 
-__all__ = ["CCode", "generate_c", "write_c"]
+__all__ = ["CCode", "generate_c", "write_c", "c_string", "c_comment"]
 
 
 class _Printer(TargetPrinter, C99CodePrinter):
@@ -145,12 +149,76 @@ def _function_body(pm: PreparedModel, exprs: Sequence[sympy.Expr], out: str, whe
     return lines
 
 
-def _cstr(text: str) -> str:
-    return json.dumps(text)  # ASCII names: a valid C string literal
+def c_string(text: str) -> str:
+    r"""A C string literal holding the UTF-8 bytes of ``text``, in printable ASCII.
+
+    ``\``, ``"`` and ``?`` are escaped (so no trigraph such as ``??/`` can
+    form); newline, carriage return and tab get their named escapes; every
+    other byte outside printable ASCII is a three-digit octal escape (octal
+    escapes stop after three digits, unlike ``\x``, which would swallow a
+    following hex digit).
+
+    Parameters
+    ----------
+    text : str
+        Text accepted by :func:`bondgraph.codegen._common.check_text`.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> print(c_string('say "hi"??/'), c_string("\u00e9\n"))
+    "say \"hi\"\?\?/" "\303\251\n"
+    """
+    out = []
+    for byte in text.encode("utf-8"):
+        ch = chr(byte)
+        if ch in '\\"?':
+            out.append("\\" + ch)
+        elif ch in _C_NAMED:
+            out.append(_C_NAMED[ch])
+        elif 0x20 <= byte < 0x7F:
+            out.append(ch)
+        else:
+            out.append(f"\\{byte:03o}")
+    return '"' + "".join(out) + '"'
+
+
+_C_NAMED = {"\n": "\\n", "\r": "\\r", "\t": "\\t"}
+
+
+def c_comment(text: str) -> str:
+    r"""``text`` as a ``/* ... */`` comment may show it: one line, no ``*/``, ``/*`` or ``??``.
+
+    A plain (dotted) identifier is shown as it is; anything else as
+    :func:`~bondgraph.codegen._common.shown` gives it, with ``?``, ``*`` and
+    ``/`` also escaped by a backslash.
+
+    Parameters
+    ----------
+    text : str
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> print(c_comment("motor.Ra"), c_comment('a*/ x("y"); /*??/'))
+    motor.Ra "a\*\/ x(\"y\"); \/\*\?\?\/"
+    """
+    view = shown(text)
+    return view if view == text else re.sub(r"([?*/])", r"\\\1", view)
+
+
+#: file names the source may ``#include "..."`` (and its comments may show)
+_HEADER_FILE = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.+-]*")
 
 
 def _names_array(prefix: str, what: str, names: Sequence[str]) -> str:
-    items = ", ".join(_cstr(n) for n in names)
+    items = ", ".join(c_string(n) for n in names)
     return f"const char *const {prefix}_{what}_names[] = {{{items + ', ' if items else ''}NULL}};"
 
 
@@ -176,7 +244,10 @@ def generate_c(model: Model, *, name: Optional[str] = None,
     Raises
     ------
     CodegenError
-        A bad name, a function with no C equivalent, or input derivatives.
+        A prefix that is not a C identifier (or is reserved), a header file
+        name that cannot be ``#include``\\ d safely, a function with no C
+        equivalent, input derivatives, or a name no escape can carry (NUL,
+        lone surrogate).
     ParameterValueError
         ``defaults`` missing or naming unknown parameters.
 
@@ -192,21 +263,29 @@ def generate_c(model: Model, *, name: Optional[str] = None,
     ['#define PLANT_NX 1', '#define PLANT_NU 1', '#define PLANT_NY 1', '#define PLANT_NP 1']
     """
     prefix = check_identifier(name if name is not None else model.name, what="C name prefix",
-                              reserved=C_RESERVED)
-    pm = prepare(model, reserved=C_RESERVED | {prefix}, defaults=defaults)
-    header_file = header_file or f"{prefix}.h"
+                              reserved=C_RESERVED | set(_MACRO_VALUES))
     up = prefix.upper()
+    # the header's macros: a local variable of that name would be rewritten by them
+    header_macros = {f"{up}_{tail}" for tail in ("H", "NX", "NU", "NY", "NP", "NX_ALLOC",
+                                                 "HAS_DEFAULT_PARAMETERS")}
+    pm = prepare(model, reserved=C_RESERVED | set(_MACRO_VALUES) | header_macros | {prefix},
+                 defaults=defaults)
+    header_file = header_file or f"{prefix}.h"
+    if not isinstance(header_file, str) or not _HEADER_FILE.fullmatch(header_file):
+        raise CodegenError(f"header file name {header_file!r} cannot be #included safely: expected "
+                           "letters, digits and _ . + - only (no directory, spaces or quotes)")
     n, m, p, k = len(pm.state_ids), len(pm.input_ids), len(pm.output_ids), len(pm.parameter_ids)
     args = "double t, const double *x, const double *u, const double *p"
     sig_d = f"void {prefix}_derivatives({args}, double *xdot)"
     sig_o = f"void {prefix}_outputs({args}, double *y)"
     sig_e = f"void {prefix}_step_euler(double t, double h, double *x, const double *u, const double *p)"
     sig_r = f"void {prefix}_step_rk4(double t, double h, double *x, const double *u, const double *p)"
-    comment = [f"{header_file} -- generated by bondgraph from model '{pm.name}'; do not edit.", "",
+    comment = [f"{header_file} -- generated by bondgraph from model {c_comment(pm.name)}; do not edit.",
+               "",
                "x' = f(t, x, u, p) (NAME_derivatives), y = g(t, x, u, p) (NAME_outputs).".replace(
                    "NAME", prefix),
                "Arrays are indexed in this order (parameters sorted by name):", ""]
-    comment += header_lines(pm, index_base=0)
+    comment += header_lines(pm, index_base=0, show=c_comment)
     comment += ["", "Name arrays end with NULL. The step functions advance x in place from t",
                 "to t + h, holding u constant over the step."]
     guard = f"{up}_H"
@@ -229,7 +308,7 @@ def generate_c(model: Model, *, name: Optional[str] = None,
     body_d = _function_body(pm, pm.rhs, "xdot", f"model {pm.name!r}, state equations")
     body_o = _function_body(pm, pm.outputs, "y", f"model {pm.name!r}, outputs")
     alloc = f"{up}_NX_ALLOC"
-    src = [f"/* {prefix}.c -- generated by bondgraph from model '{pm.name}'; do not edit.",
+    src = [f"/* {prefix}.c -- generated by bondgraph from model {c_comment(pm.name)}; do not edit.",
            f" * See {header_file} for the order of the arrays. */",
            f'#include "{header_file}"', "", "#include <math.h>", "#include <stddef.h>", ""]
     body_text = "\n".join(body_d + body_o)
