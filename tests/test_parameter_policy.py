@@ -185,3 +185,16 @@ def test_negative_values_are_allowed():
     """Active elements: a negative damper gives the unstable poles of 2 s^2 - 6 s + 4."""
     P = bg.compile_plant(msd()).plant({**VALUES, "b": -6.0})
     assert np.allclose(np.sort(np.linalg.eigvals(P.A).real), [1.0, 2.0])
+
+
+def test_codegen_defaults_follow_the_policy():
+    from bondgraph.codegen import generate_python
+
+    model = msd()
+    ns: dict = {}
+    exec(generate_python(model, defaults=VALUES), ns)
+    assert dict(ns["DEFAULT_PARAMETERS"]) == VALUES
+    with pytest.raises(bg.ParameterValueError, match=r"unknown parameter 'bb' \(did you mean 'b'\?\)"):
+        generate_python(model, defaults={**VALUES, "bb": 1.0})
+    with pytest.raises(bg.MissingValueError, match="missing c"):
+        generate_python(model, defaults={"m": 2.0, "b": 6.0})

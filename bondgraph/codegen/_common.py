@@ -312,7 +312,8 @@ def prepare(model: Model, *, reserved: Iterable[str], matlab: bool = False,
     if defaults is not None:
         from ..numeric.parameters import resolve_parameters
 
-        default_values = tuple(resolve_parameters(params, defaults, model=model.name).tolist())
+        default_values = tuple(resolve_parameters(params, defaults, model=model.name,
+                                                  known=model.known_parameters).tolist())
     return PreparedModel(model.name, model.state_names, model.input_names, model.output_names,
                          tuple(p.name for p in params), state_ids, input_ids, output_ids,
                          param_ids, rhs, outs, default_values)
