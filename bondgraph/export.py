@@ -15,7 +15,10 @@ Formats
     ``parameter_names``); ``model_name`` (char); ``format`` (char,
     ``"bondgraph-statespace"``) and ``format_version`` (double, 1).
     Parameter names such as ``motor.Ra`` are kept as strings, not as struct
-    fields, since they are not MATLAB identifiers.
+    fields, since they are not MATLAB identifiers.  Names are written as
+    MATLAB char arrays: ASCII names (quotes and newlines included) read back
+    exactly in MATLAB and Octave; non-ASCII characters (accents, Greek) come
+    back garbled in Octave 7, so keep names ASCII for ``.mat`` exchange.
 
 ``.npz`` (:func:`numpy.savez`)
     The same arrays under the same names; names as unicode string arrays,
