@@ -51,6 +51,14 @@ class Case:
 CASES: list[Case] = []
 
 
+def _fmu_error() -> type:
+    from bondgraph.fmu import FMUError
+    return FMUError
+
+
+FMUError = _fmu_error()
+
+
 def case(area: str, input: str, error: type, match: str):
     """Register the decorated function ``f(dirs)`` as a catalogue case."""
     def register(fn):
@@ -576,6 +584,19 @@ def load_json_duplicate_key(d):
     src = d.inp / "plant.json"
     src.write_text('{"format": "bondgraph-plant", "format": "x"}')
     load_json(src)
+
+
+@case("export", "FMU of a model whose output needs an input derivative", FMUError,
+      r"model 'shaker' cannot be an FMU: its equations use time derivatives of inputs \(dv/dt\)")
+def fmu_input_derivative(d):
+    from bondgraph.fmu import export_fmu
+
+    g = bg.BondGraph("shaker")
+    g.add(bg.Sf("v"), bg.One("j"), bg.I("m"), bg.R("b"))
+    for t, h in [("v", "j"), ("j", "m"), ("j", "b")]:
+        g.connect(t, h)
+    export_fmu(bg.derive(g, outputs={"F": bg.effort(1)}), d.out / "shaker.fmu",
+               values={"m": 1.0, "b": 1.0})
 
 
 # ------------------------------------------------------------------ identification
