@@ -10,6 +10,13 @@
 Parameter values are a mapping keyed by sympy Symbol or name (``"motor.Ra"``);
 all parameters must be given, and nothing else.
 
+Every compiled object pickles (for process pools and Dask): a
+:class:`NumericModel` or :class:`NumericDynamics` travels as its model and
+expressions and is lambdified again on first use after loading, once per
+process (a cache keyed by the expressions), so a round trip gives the same
+numbers bit for bit.  A model whose laws call Python functions (sympy
+``implemented_function``) cannot be pickled (:class:`NotPicklableError`).
+
 Examples
 --------
 >>> import bondgraph as bg
@@ -28,7 +35,8 @@ array([[ -2. , -10. ],
 ['p_La', 'p_J']
 """
 
-from .errors import ImproperPlantError, NumericError, ParameterValueError, SimulationError
+from .errors import (ImproperPlantError, NotPicklableError, NumericError, ParameterValueError,
+                     SimulationError)
 from .parameters import parameter_name, resolve_batch, resolve_parameters
 from .plant import (BatchStateSpace, NumericModel, NumericStateSpace, compile_plant,
                     control_labels, numeric_plant)
@@ -40,4 +48,5 @@ __all__ = [
     "NumericDynamics", "compile_dynamics", "SimulationResult", "simulate", "to_nonlinear_iosys",
     "resolve_parameters", "resolve_batch", "parameter_name", "control_labels",
     "NumericError", "ParameterValueError", "SimulationError", "ImproperPlantError",
+    "NotPicklableError",
 ]

@@ -5,6 +5,12 @@ A user's Python function inside an expression (``sympy``'s
 :func:`guard_user_functions` wraps each so that an exception, or a result
 that is not a real number, becomes :class:`CallbackFailure` naming it.
 
+:class:`CompiledFunction` is the picklable form of a lambdified function: it
+pickles as its expressions (themselves pickled once, and keyed by the SHA-256
+of those bytes) and is lambdified again on first use after loading, through
+a per-process cache, so that a worker receiving the same compiled model for
+every chunk of a parameter study compiles it once.
+
 Examples
 --------
 >>> import sympy
@@ -15,15 +21,20 @@ Examples
 
 from __future__ import annotations
 
+import hashlib
 import inspect
-from typing import Any, Callable, Sequence
+import pickle
+import threading
+from collections import OrderedDict
+from typing import Any, Callable, Optional, Sequence
 
 import numpy as np
 import sympy
 from sympy.core.function import AppliedUndef
 from sympy.utilities.lambdify import implemented_function
 
-__all__ = ["lambdify_cse", "placeholders", "guard_user_functions", "CallbackFailure", "real_array"]
+__all__ = ["lambdify_cse", "placeholders", "guard_user_functions", "CallbackFailure", "real_array",
+           "CompiledFunction", "user_functions"]
 
 
 def placeholders(prefix: str, n: int) -> list[sympy.Symbol]:
@@ -47,6 +58,137 @@ def lambdify_cse(args: Sequence, exprs: Sequence[sympy.Expr]) -> Callable:
     """``sympy.lambdify(args, list(exprs), "numpy", cse=True)``, without the long docstring."""
     extra = {"docstring_limit": 0} if _HAS_DOCLIMIT else {}
     return sympy.lambdify(list(args), list(exprs), modules="numpy", cse=True, **extra)
+
+
+#: lambdified functions by the SHA-256 of their pickled (args, exprs); least recently used last out
+_CACHE: "OrderedDict[str, Callable]" = OrderedDict()
+_CACHE_SIZE = 64
+_CACHE_LOCK = threading.Lock()
+
+
+def _cached(key: str) -> Optional[Callable]:
+    with _CACHE_LOCK:
+        fn = _CACHE.get(key)
+        if fn is not None:
+            _CACHE.move_to_end(key)
+        return fn
+
+
+def _remember(key: str, fn: Callable) -> None:
+    with _CACHE_LOCK:
+        _CACHE[key] = fn
+        _CACHE.move_to_end(key)
+        while len(_CACHE) > _CACHE_SIZE:
+            _CACHE.popitem(last=False)
+
+
+def user_functions(exprs: Sequence[sympy.Expr]) -> list[Any]:
+    """The user functions (``implemented_function``, with ``_imp_``) called in ``exprs``, by name.
+
+    Examples
+    --------
+    >>> x = sympy.Symbol("x")
+    >>> user_functions([implemented_function("sat", abs)(x) + 1, x])
+    [sat]
+    """
+    funcs = {a.func for ex in exprs if isinstance(ex, sympy.Basic)
+             for a in ex.atoms(AppliedUndef) if hasattr(a.func, "_imp_")}
+    return sorted(funcs, key=str)
+
+
+class CompiledFunction:
+    """``lambdify_cse(args, exprs)`` that pickles as its expressions and recompiles lazily.
+
+    Calling it calls the lambdified function.  Pickling stores the pickled
+    ``(args, exprs)`` and their SHA-256; unpickling compiles nothing: the
+    first call looks the key up in a per-process cache (64 functions, least
+    recently used dropped) and lambdifies only on a miss, so a round trip
+    gives the same generated code, hence the same numbers bit for bit.
+
+    Parameters
+    ----------
+    args : sequence
+        Lambdify arguments (symbols, or lists of symbols).
+    exprs : sequence of sympy.Expr
+
+    Raises
+    ------
+    NotPicklableError
+        When pickled, if the expressions call a user function
+        (``implemented_function``): the Python function cannot travel with
+        them.
+
+    Examples
+    --------
+    >>> import pickle
+    >>> x = sympy.Symbol("x")
+    >>> f = CompiledFunction([x], [x**2 + 1, 2*x])
+    >>> g = pickle.loads(pickle.dumps(f))
+    >>> g(3.0), g.key == f.key
+    ([10.0, 6.0], True)
+    """
+
+    __slots__ = ("_args", "_exprs", "_fn", "_key", "_blob")
+
+    def __init__(self, args: Sequence, exprs: Sequence[sympy.Expr]) -> None:
+        self._args: Optional[list] = list(args)
+        self._exprs: Optional[list] = list(exprs)
+        self._fn: Optional[Callable] = lambdify_cse(self._args, self._exprs)
+        self._key: Optional[str] = None
+        self._blob: Optional[bytes] = None
+
+    def __call__(self, *args: Any) -> Any:
+        fn = self._fn
+        if fn is None:
+            fn = self._load()
+        return fn(*args)
+
+    @property
+    def key(self) -> str:
+        """SHA-256 (hex) of the pickled ``(args, exprs)``: equal keys, equal functions."""
+        self._pickled()
+        assert self._key is not None
+        return self._key
+
+    def _pickled(self) -> bytes:
+        if self._blob is None:
+            assert self._exprs is not None
+            funcs = user_functions(self._exprs)
+            if funcs:
+                from .errors import NotPicklableError
+
+                raise NotPicklableError(
+                    f"the equations call the Python function(s) {', '.join(map(str, funcs))} "
+                    "(sympy implemented_function), which cannot be pickled; compile the "
+                    "model in each process instead")
+            blob = pickle.dumps((self._args, self._exprs), protocol=pickle.HIGHEST_PROTOCOL)
+            self._blob, self._key = blob, hashlib.sha256(blob).hexdigest()
+            if self._fn is not None:           # a round trip in this process compiles nothing
+                _remember(self._key, self._fn)
+        return self._blob
+
+    def _load(self) -> Callable:
+        assert self._key is not None and self._blob is not None
+        fn = _cached(self._key)
+        if fn is None:
+            args, exprs = pickle.loads(self._blob)
+            fn = lambdify_cse(args, exprs)
+            _remember(self._key, fn)
+        self._fn = fn
+        return fn
+
+    def __getstate__(self) -> dict:
+        blob = self._pickled()
+        return {"key": self._key, "blob": blob}
+
+    def __setstate__(self, state: dict) -> None:
+        self._args = self._exprs = None
+        self._key, self._blob = state["key"], state["blob"]
+        self._fn = None                       # compiled (or found in the cache) on first call
+
+    def __repr__(self) -> str:
+        state = "compiled" if self._fn is not None else "not yet compiled"
+        return f"<CompiledFunction {state}>"
 
 
 class CallbackFailure(Exception):

@@ -12,7 +12,11 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["frequency_response", "sorted_eigenvalues", "freeze"]
+__all__ = ["frequency_response", "channel_response", "ChannelResponse", "sorted_eigenvalues",
+           "freeze"]
+
+#: eigenvector condition number above which a plant's response is solved, not taken modally
+MODAL_COND = 1e6
 
 #: complex entries per chunk of (jw I - A) matrices solved at once (~64 MB)
 _CHUNK_ENTRIES = 1 << 22
@@ -63,6 +67,116 @@ def frequency_response(A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarra
         X = _solve(M, rhs)                                        # (c, F, n, m)
         out[sl] += C2[sl, None] @ X
     return out.reshape(lead + (F, p, m))
+
+
+def channel_response(A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray,
+                     D_derivatives, omega: np.ndarray, output: int, input: int) -> np.ndarray:
+    """One channel's ``H(jw)`` for a stack of plants, each at its own frequencies.
+
+    Parameters
+    ----------
+    A, B, C, D : numpy.ndarray
+        Stacks ``(P, n, n)``, ``(P, n, m)``, ``(P, p, n)``, ``(P, p, m)``.
+    D_derivatives : sequence of numpy.ndarray
+        Stacks ``(P, p, m)`` of the coefficients of ``s, s^2, ...`` (may be empty).
+    omega : numpy.ndarray
+        ``(P, F)``: the frequencies (rad/s) of each plant, or ``(F,)`` for all.
+    output, input : int
+        The channel.
+
+    Returns
+    -------
+    numpy.ndarray
+        Complex ``(P, F)``; ``nan`` where ``jw I - A`` is singular.
+
+    Examples
+    --------
+    >>> A = np.array([[[-1.0]], [[-2.0]]]); B = np.ones((2, 1, 1)); C = np.ones((2, 1, 1))
+    >>> channel_response(A, B, C, np.zeros((2, 1, 1)), (), np.array([[0.0], [2.0]]), 0, 0)
+    array([[1.  +0.j  ],
+           [0.25-0.25j]])
+    """
+    P, n = A.shape[0], A.shape[-1]
+    w = np.asarray(omega, dtype=float)
+    w = np.broadcast_to(w, (P,) + w.shape[-1:]) if w.ndim == 1 else w
+    F = w.shape[1]
+    jw = 1j * w
+    out = np.empty((P, F), dtype=complex)
+    out[...] = D[:, output, input][:, None]
+    for k, M in enumerate(D_derivatives, start=1):
+        out += M[:, output, input][:, None] * jw ** k
+    if n == 0 or F == 0 or P == 0:
+        return out
+    b = B[:, :, input].astype(complex)                                # (P, n)
+    c = C[:, output, :]                                               # (P, n)
+    eye = np.eye(n)
+    chunk = max(1, _CHUNK_ENTRIES // max(1, F * n * n))
+    for start in range(0, P, chunk):
+        sl = slice(start, min(P, start + chunk))
+        M = jw[sl, :, None, None] * eye - A[sl, None]                 # (c, F, n, n)
+        rhs = np.broadcast_to(b[sl, None, :, None], M.shape[:-1] + (1,))
+        X = _solve(M, rhs)[..., 0]                                    # (c, F, n)
+        out[sl] += np.einsum("pfn,pn->pf", X, c[sl])
+    return out
+
+
+class ChannelResponse:
+    """One channel's ``H(jw)`` of a stack of plants, evaluated many times (searches, grids).
+
+    The plants are diagonalised once, ``H(s) = d + sum_k r_k / (s - p_k)``
+    (plus the input-derivative terms), so each frequency costs ``O(n)``
+    instead of a solve; a plant whose eigenvectors are ill-conditioned
+    (condition number above :data:`MODAL_COND`, a defective ``A``) is
+    solved with :func:`channel_response` instead.
+
+    Examples
+    --------
+    >>> A = np.array([[[0.0, 1.0], [-4.0, -0.4]]]); B = np.array([[[0.0], [1.0]]])
+    >>> C = np.array([[[1.0, 0.0]]]); D = np.zeros((1, 1, 1))
+    >>> H = ChannelResponse(A, B, C, D, (), 0, 0)
+    >>> np.allclose(H(np.array([[0.0, 2.0]])), channel_response(A, B, C, D, (), np.array([[0.0, 2.0]]), 0, 0))
+    True
+    """
+
+    def __init__(self, A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray,
+                 D_derivatives, output: int, input: int) -> None:
+        self._mats = (A, B, C, D, tuple(D_derivatives))
+        self._channel = (output, input)
+        P, n = A.shape[0], A.shape[-1]
+        self._d = D[:, output, input]
+        self._dd = [M[:, output, input] for M in D_derivatives]
+        if n == 0 or P == 0:
+            self._poles = np.zeros((P, 0), dtype=complex)
+            self._res = np.zeros((P, 0), dtype=complex)
+            self._solved = np.zeros(P, dtype=bool)
+            return
+        with np.errstate(all="ignore"):
+            lam, V = np.linalg.eig(A)
+            cond = np.linalg.cond(V)
+        solved = ~(np.isfinite(cond) & (cond < MODAL_COND))
+        V = np.where(solved[:, None, None], np.eye(n), V)
+        right = np.linalg.solve(V, B[:, :, input].astype(complex)[..., None])[..., 0]   # V^-1 b
+        left = np.einsum("pn,pnk->pk", C[:, output, :], V)                              # c V
+        self._poles, self._res, self._solved = lam, left * right, solved
+
+    def __call__(self, omega: np.ndarray) -> np.ndarray:
+        """``H(jw)`` for ``omega`` of shape ``(P, F)`` (or ``(F,)`` for all): complex ``(P, F)``."""
+        w = np.asarray(omega, dtype=float)
+        P = self._d.shape[0]
+        w = np.broadcast_to(w, (P,) + w.shape[-1:]) if w.ndim == 1 else w
+        jw = 1j * w
+        with np.errstate(all="ignore"):
+            out = self._d[:, None] + np.einsum("pk,pfk->pf", self._res,
+                                               1.0 / (jw[:, :, None] - self._poles[:, None, :]))
+            for k, M in enumerate(self._dd, start=1):
+                out = out + M[:, None] * jw ** k
+        out[~np.isfinite(out)] = np.nan + 0j
+        if self._solved.any():
+            idx = np.flatnonzero(self._solved)
+            A, B, C, D, Dd = self._mats
+            out[idx] = channel_response(A[idx], B[idx], C[idx], D[idx], tuple(M[idx] for M in Dd),
+                                        w[idx], *self._channel)
+        return out
 
 
 def _solve(M: np.ndarray, rhs: np.ndarray) -> np.ndarray:

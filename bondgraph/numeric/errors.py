@@ -10,9 +10,12 @@ True
 
 from __future__ import annotations
 
+import pickle
+
 from ..errors import BondGraphError, ParameterValueError
 
-__all__ = ["NumericError", "ParameterValueError", "SimulationError", "ImproperPlantError"]
+__all__ = ["NumericError", "ParameterValueError", "SimulationError", "ImproperPlantError",
+           "NotPicklableError"]
 
 
 class NumericError(BondGraphError, ValueError):
@@ -26,3 +29,8 @@ class SimulationError(BondGraphError, RuntimeError):
 class ImproperPlantError(NumericError):
     """A plant with input-derivative feedthrough (``D_derivatives`` nonzero) was asked
     for a form that cannot hold it (python-control or scipy ``StateSpace``)."""
+
+
+class NotPicklableError(NumericError, pickle.PicklingError):
+    """A compiled model cannot be pickled: its equations call a Python function
+    (sympy ``implemented_function``) that cannot travel with them."""

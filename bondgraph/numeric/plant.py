@@ -53,11 +53,11 @@ import sympy
 
 from ..model import Model
 from ..statespace import SignalCounts, check_matrix_shape, expected_shape
-from ._compile import lambdify_cse, placeholders
+from ._compile import CompiledFunction, placeholders, user_functions
 from ._linalg import freeze, frequency_response, sorted_eigenvalues
 from .._labels import control_labels
 from ..parameters import real_value
-from .errors import ImproperPlantError, NumericError, ParameterValueError
+from .errors import ImproperPlantError, NotPicklableError, NumericError, ParameterValueError
 from .parameters import ParameterValues, resolve_batch, resolve_parameters
 
 if TYPE_CHECKING:  # imported lazily at run time
@@ -154,6 +154,13 @@ class NumericStateSpace(SignalCounts):
     def __repr__(self) -> str:
         return (f"NumericStateSpace({self.name!r}: {self.nstates} states, {self.ninputs} inputs, "
                 f"{self.noutputs} outputs)")
+
+    def __reduce__(self):
+        # rebuilt through __init__: read-only copies of the same float64 arrays (bit for bit),
+        # the parameter values as a read-only mapping again
+        return (NumericStateSpace, (self.A, self.B, self.C, self.D, self.state_names,
+                                    self.input_names, self.output_names, dict(self.parameters),
+                                    self.name, self.D_derivatives, self.state_shift))
 
     def eigenvalues(self) -> np.ndarray:
         """Eigenvalues of ``A`` (the poles), sorted by real then imaginary part."""
@@ -326,6 +333,9 @@ class BatchStateSpace:
     def __len__(self) -> int:
         return self.A.shape[0]
 
+    def __reduce__(self):
+        return (_rebuild_batch, ({f.name: getattr(self, f.name) for f in dataclasses.fields(self)},))
+
     def __getitem__(self, i: int) -> NumericStateSpace:
         """Plant number ``i`` as a :class:`NumericStateSpace`."""
         i = range(len(self))[i]
@@ -358,6 +368,16 @@ class _CompiledModel:
     @property
     def model(self) -> Model:
         return self._model
+
+    def __getstate__(self) -> dict:
+        # the model's own expressions travel too: a law calling a Python function cannot
+        funcs = user_functions((*self._model.rhs, *self._model.output_exprs))
+        if funcs:
+            raise NotPicklableError(
+                f"model {self._model.name!r} cannot be pickled: its laws call the Python "
+                f"function(s) {', '.join(map(str, funcs))} (sympy implemented_function), which "
+                "pickle cannot carry; compile the model in each process instead")
+        return dict(self.__dict__)
 
     @property
     def parameter_names(self) -> tuple[str, ...]:
@@ -424,7 +444,7 @@ class NumericModel(_CompiledModel):
                 else:
                     self._const.append((k, i, j,
                                         _real_constant(ex, self._labels[k], i, j, model.name)))
-        self._fn = lambdify_cse(dummies, exprs) if exprs else None
+        self._fn = CompiledFunction(dummies, exprs) if exprs else None
 
     def _reduce(self, mats: list[np.ndarray]):
         """``A, B, C, D, D_derivatives, state_shift`` from ``A, B0..BK, C, D0..DK``.
@@ -535,6 +555,16 @@ class NumericModel(_CompiledModel):
         return BatchStateSpace(A, B, C, D, self.state_names, self.input_names,
                                self.output_names, self.parameter_names, arr, self._model.name,
                                Dd, S)
+
+
+def _rebuild_batch(fields: dict) -> BatchStateSpace:
+    """A unpickled :class:`BatchStateSpace`, its arrays read-only again."""
+    for key, value in fields.items():
+        if isinstance(value, np.ndarray):
+            fields[key] = freeze(value)
+        elif key in ("D_derivatives", "state_shift"):
+            fields[key] = tuple(freeze(M) for M in value)
+    return BatchStateSpace(**fields)
 
 
 def _elements_using(model: Model, names: Sequence[str]) -> str:

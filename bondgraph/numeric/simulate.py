@@ -33,7 +33,7 @@ from sympy.core.function import AppliedUndef
 from ..errors import BondGraphError
 from ..model import Model
 from ..signals import t as T_SYM
-from ._compile import CallbackFailure, guard_user_functions, lambdify_cse, placeholders, real_array
+from ._compile import CallbackFailure, CompiledFunction, guard_user_functions, placeholders, real_array
 from ._linalg import freeze
 from .errors import NumericError, SimulationError
 from .parameters import ParameterValues, resolve_parameters
@@ -127,8 +127,8 @@ class NumericDynamics(_CompiledModel):
         exprs = guard_user_functions((*model.rhs, *model.output_exprs),
                                      lambda func: _law_owners(model, func))
         n = len(model.rhs)
-        self._f = lambdify_cse(args, [ex.xreplace(swap) for ex in exprs[:n]])
-        self._g = lambdify_cse(args, [ex.xreplace(swap) for ex in exprs[n:]])
+        self._f = CompiledFunction(args, [ex.xreplace(swap) for ex in exprs[:n]])
+        self._g = CompiledFunction(args, [ex.xreplace(swap) for ex in exprs[n:]])
 
     def __repr__(self) -> str:
         return f"NumericDynamics({self._model.name!r}: {len(self.state_names)} states)"
@@ -249,6 +249,11 @@ class SimulationResult:
         return (f"SimulationResult({self.name!r}: {self.t.size} samples, t = {self.t[0]:g}..{self.t[-1]:g})"
                 if self.t.size else f"SimulationResult({self.name!r}: no samples)")
 
+    def __reduce__(self):
+        values = {f.name: getattr(self, f.name) for f in fields(self)}
+        values["parameters"] = dict(self.parameters)      # a mappingproxy does not pickle
+        return (_rebuild_result, (values,))
+
     def __getitem__(self, name: str) -> np.ndarray:
         """The history of the output, state or input called ``name`` (searched in that order)."""
         for names, data in ((self.output_names, self.y), (self.state_names, self.x),
@@ -258,6 +263,14 @@ class SimulationResult:
         raise KeyError(f"no output, state or input named {name!r}; outputs: "
                        f"{', '.join(self.output_names) or '-'}; states: {', '.join(self.state_names)}; "
                        f"inputs: {', '.join(self.input_names) or '-'}")
+
+
+def _rebuild_result(values: dict) -> SimulationResult:
+    """An unpickled :class:`SimulationResult`: read-only arrays, read-only parameter mapping."""
+    for key in ("t", "x", "y", "u"):
+        values[key] = freeze(values[key])
+    values["parameters"] = MappingProxyType(dict(values["parameters"]))
+    return SimulationResult(**values)
 
 
 #: the ``method`` names :func:`scipy.integrate.solve_ivp` accepts
