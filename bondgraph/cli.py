@@ -1,4 +1,4 @@
-"""Command line: ``bondgraph equations | tf | export | draw MODEL ...``.
+"""Command line: ``bondgraph equations | tf | export | draw | sweep MODEL ...``.
 
 ``MODEL`` is a model file (see :mod:`bondgraph.modelfile`): a Python file
 whose ``model()`` returns a :class:`~bondgraph.modelfile.ModelDefinition`.
@@ -368,6 +368,91 @@ def _cmd_draw(args) -> None:
     print(f"wrote {args.output}")
 
 
+_SWEEP_FORMATS = {".csv": "csv", ".parquet": "parquet"}
+
+
+def _cmd_sweep(args) -> None:
+    """``bondgraph sweep``: a parameter study (bondgraph.study) written as CSV or parquet."""
+    import warnings
+
+    from .files import atomic_write
+    from .study import StudyWarning, sweep
+    from .study._deps import require
+    from .study.config import load_study
+
+    out = Path(args.output)
+    fmt = _SWEEP_FORMATS.get(out.suffix.lower())
+    if fmt is None:
+        raise CLIError(f"cannot tell the table format from '{args.output}'; use a .csv or .parquet "
+                       "file name")
+    if args.workers is not None and args.scheduler is not None:
+        raise CLIError("give --workers (a local process pool) or --scheduler (a Dask cluster), not both")
+    _refuse_overwriting_inputs([out], args)
+    require("pandas", "bondgraph sweep")
+    if fmt == "parquet":
+        require("pyarrow", f"writing '{args.output}' (parquet)")
+    study = load_study(args.params)
+    opts = study.options
+    metric = args.metric or opts.get("metric")
+    if not metric:
+        from .study.metrics import BUILTIN
+
+        raise CLIError(f"no metric: give --metric NAME ({', '.join(BUILTIN)}) or metric = [...] "
+                       f"in the [study] table of '{args.params}'")
+    from .modelfile import load_model
+
+    defn = load_model(args.model)
+    executor, close = _sweep_executor(args)
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", StudyWarning)
+            try:
+                df = sweep(defn, study.parameters, metric, values=study.values,
+                           n=args.n if args.n is not None else opts.get("n"),
+                           design=args.design or opts.get("design", "sobol"),
+                           seed=args.seed if args.seed is not None else opts.get("seed"),
+                           executor=executor,
+                           chunk_size=args.chunk_size or opts.get("chunk_size"),
+                           progress=not args.no_progress and sys.stderr.isatty(),
+                           input=args.input or opts.get("input"),
+                           output=args.output_signal or opts.get("output"))
+            except ParameterValueError as exc:      # names or values of the study file
+                raise CLIError(f"study file '{args.params}': {exc}") from None
+    finally:
+        close()
+    if fmt == "csv":
+        data = df.to_csv(index=False).encode("utf-8")
+        atomic_write(out, lambda fh: fh.write(data))
+    else:
+        atomic_write(out, lambda fh: df.to_parquet(fh, index=False))
+    for w in caught:
+        if issubclass(w.category, StudyWarning):
+            print(f"note: {w.message}", file=sys.stderr)
+    print(f"wrote {out} ({len(df)} samples, design {df.attrs['design']}, seed {df.attrs['seed']}, "
+          f"{df.attrs['failed']} failed)")
+
+
+def _sweep_executor(args):
+    """(executor, close) for ``--workers`` / ``--scheduler``; (None, no-op) in process."""
+    if args.workers is not None:
+        if args.workers < 1:
+            raise CLIError(f"--workers must be at least 1; got {args.workers}")
+        from concurrent.futures import ProcessPoolExecutor
+
+        pool = ProcessPoolExecutor(args.workers)
+        return pool, lambda: pool.shutdown(cancel_futures=True)
+    if args.scheduler is not None:
+        from .study._deps import require
+
+        distributed = require("distributed", "--scheduler (Dask)")
+        try:
+            client = distributed.Client(args.scheduler, timeout="10s")
+        except (OSError, TimeoutError, ValueError) as exc:
+            raise CLIError(f"cannot reach the Dask scheduler at {args.scheduler!r}: {exc}") from None
+        return client, client.close
+    return None, lambda: None
+
+
 # --------------------------------------------------------------------------- parser
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser (exposed for documentation tools and tests).
@@ -375,7 +460,7 @@ def build_parser() -> argparse.ArgumentParser:
     Returns
     -------
     argparse.ArgumentParser
-        With sub-commands ``equations``, ``tf``, ``export`` and ``draw``.
+        With sub-commands ``equations``, ``tf``, ``export``, ``draw`` and ``sweep``.
 
     Examples
     --------
@@ -433,6 +518,36 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--format", "-f", choices=["svg", "png"], help="default: from the file's suffix")
     p.add_argument("--no-causality", action="store_true", help="omit causal strokes")
     p.set_defaults(func=_cmd_draw)
+
+    from .study.design import DESIGNS
+    from .study.metrics import BUILTIN
+
+    p = sub.add_parser("sweep", help="parameter study: sample parameters, tabulate plant metrics",
+                       description="Vary the parameters of the study file's [sweep] table (bounds, "
+                                   "value lists or scipy.stats distributions; the others take the "
+                                   "model file's defaults and the [values] table), evaluate the "
+                                   "metrics of every sample's numeric plant and write one row per "
+                                   "sample (CSV or parquet, written atomically). Needs the study "
+                                   "extra: pip install \"bondgraph[study]\".")
+    p.add_argument("model", metavar="MODEL", help="model file (.py)")
+    p.add_argument("--params", metavar="FILE", required=True,
+                   help="study file, TOML or JSON: [sweep] ranges, [values], [study] options")
+    p.add_argument("--n", type=int, metavar="N", help="number of samples (default 1024)")
+    p.add_argument("--design", choices=DESIGNS, help="sampling design (default sobol)")
+    p.add_argument("--seed", type=int, metavar="S", help="design seed (default: a fresh one, "
+                                                         "printed)")
+    p.add_argument("--metric", action="append", choices=list(BUILTIN), metavar="NAME",
+                   help=f"metric, repeatable: {', '.join(BUILTIN)}")
+    p.add_argument("--input", "-u", metavar="U", help="input of channel metrics (gains, step)")
+    p.add_argument("--output-signal", "-y", metavar="Y", help="output of channel metrics")
+    p.add_argument("--workers", type=int, metavar="K", help="run on K local worker processes")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="run on a running Dask scheduler (tcp://host:8786)")
+    p.add_argument("--chunk-size", type=int, metavar="C", help="samples per task")
+    p.add_argument("--no-progress", action="store_true",
+                   help="no progress bar (shown only when stderr is a terminal)")
+    p.add_argument("-o", "--output", metavar="OUT", required=True, help="output table, .csv or .parquet")
+    p.set_defaults(func=_cmd_sweep)
     return parser
 
 
@@ -536,7 +651,8 @@ def _message(exc: BaseException) -> str:
 
 def _naming_path(message: str, args) -> str:
     """``message``, prefixed with the model file when it names none of the user's paths."""
-    keys = ("model", "params", "output") if args.command in ("export", "draw") else ("model", "params")
+    with_output = args.command in ("export", "draw", "sweep")
+    keys = ("model", "params", "output") if with_output else ("model", "params")
     paths = [getattr(args, key, None) for key in keys]      # tf's --output is a signal, not a file
     spellings = set()
     for path in filter(None, paths):
