@@ -56,3 +56,14 @@ __all__ = [
     "ImproperPlantError",
     "ExportError", "draw",
 ]
+
+__all__ += ["sweep", "sensitivity"]
+
+
+def __getattr__(name: str):
+    """``bg.sweep`` / ``bg.sensitivity`` on first use: ``import bondgraph`` loads no pandas or dask."""
+    if name in ("sweep", "sensitivity"):
+        from . import study
+
+        return getattr(study, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

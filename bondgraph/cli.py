@@ -37,7 +37,8 @@ from .parameters import match_values
 
 __all__ = ["main", "build_parser", "load_params", "ParamsFileError", "CLIError"]
 
-_EXPORT_FORMATS = {".mat": "mat", ".npz": "npz", ".json": "json", ".c": "c", ".m": "m", ".py": "py"}
+_EXPORT_FORMATS = {".mat": "mat", ".npz": "npz", ".json": "json", ".c": "c", ".m": "m", ".py": "py",
+                   ".fmu": "fmu"}
 
 
 class CLIError(BondGraphError, ValueError):
@@ -278,6 +279,8 @@ def _export_format(args) -> str:
                            f"{'|'.join(sorted(set(_EXPORT_FORMATS.values())))}")
     if fmt == "c" and out.suffix not in ("", ".c"):
         raise CLIError(f"C output '{args.output}' must end in .c (the header is written beside it as .h)")
+    if fmt == "fmu" and out.suffix.lower() != ".fmu":
+        raise CLIError(f"FMU output '{args.output}' must end in .fmu")
     if fmt in ("m", "py") and out.suffix != f".{fmt}":
         language = "MATLAB" if fmt == "m" else "Python"
         raise CLIError(f"{language} output '{args.output}' must end in .{fmt}")
@@ -298,6 +301,13 @@ def _cmd_export(args) -> None:
         full = _values(defn, model, args.params, given, complete=True)
         plant = compile_plant(model).plant(full)
         export(plant, out, format=fmt)
+        print(f"wrote {out}")
+        return
+    if fmt == "fmu":
+        from .fmu import export_fmu
+
+        full = _values(defn, model, args.params, given, complete=True)
+        export_fmu(defn, out, fmi=args.fmi or 2, kind=args.kind or "both", values=full)
         print(f"wrote {out}")
         return
     values = _values(defn, model, args.params, given, complete=False)
@@ -501,13 +511,18 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = sub.add_parser("export", help="export a numeric plant or generate code",
                        description="Write the numeric plant (mat, npz, json; every parameter needs a "
-                                   "value) or code for the equations (c: .c and .h; m: MATLAB/Octave "
-                                   "function; py: plain Python module). Files are written atomically.")
+                                   "value), code for the equations (c: .c and .h; m: MATLAB/Octave "
+                                   "function; py: plain Python module) or an FMU (fmu: FMI 2.0 or 3.0, "
+                                   "Model Exchange and/or Co-Simulation, compiled with cc; every "
+                                   "parameter needs a value). Files are written atomically.")
     p.add_argument("model", metavar="MODEL", help="model file (.py)")
-    p.add_argument("--format", "-f", choices=["mat", "npz", "json", "c", "m", "py"],
+    p.add_argument("--format", "-f", choices=["mat", "npz", "json", "c", "m", "py", "fmu"],
                    help="output format (default: from the output file's suffix)")
     p.add_argument("--params", metavar="FILE", help="parameter values, JSON or TOML")
     p.add_argument("--name", metavar="NAME", help="C symbol prefix (default: the model's name)")
+    p.add_argument("--fmi", type=int, choices=[2, 3], help="FMU: FMI version (default 2)")
+    p.add_argument("--kind", choices=["me", "cs", "both"],
+                   help="FMU: Model Exchange, Co-Simulation (fixed-step RK4) or both (default)")
     p.add_argument("-o", "--output", metavar="OUT", required=True, help="output file")
     p.set_defaults(func=_cmd_export)
 
@@ -596,6 +611,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         if args.command == "export" and args.name is not None and \
                 (args.format or _EXPORT_FORMATS.get(Path(args.output).suffix.lower(), "c")) != "c":
             parser.error("--name only applies to --format c (a MATLAB function is named after its file)")
+        if args.command == "export" and (args.fmi is not None or args.kind is not None) and \
+                (args.format or _EXPORT_FORMATS.get(Path(args.output).suffix.lower())) != "fmu":
+            parser.error("--fmi and --kind only apply to --format fmu")
         if args.command == "tf" and args.params is not None and not args.numeric:
             parser.error("tf: --params is used only with --numeric")
     except SystemExit as exc:  # --help, --version, usage errors
