@@ -33,12 +33,12 @@ from typing import Literal, Mapping, Optional, Sequence, overload
 
 from ._labels import latex_dot, latex_name, tex
 from .errors import BondGraphError, ParameterValueError
+from .export import EXPORT_FORMATS
 from .parameters import match_values
 
 __all__ = ["main", "build_parser", "load_params", "ParamsFileError", "CLIError"]
 
-_EXPORT_FORMATS = {".mat": "mat", ".npz": "npz", ".json": "json", ".c": "c", ".m": "m", ".py": "py",
-                   ".fmu": "fmu"}
+_EXPORT_FORMATS = EXPORT_FORMATS   # one table with bondgraph.export
 
 
 class CLIError(BondGraphError, ValueError):
@@ -516,7 +516,7 @@ def build_parser() -> argparse.ArgumentParser:
                                    "Model Exchange and/or Co-Simulation, compiled with cc; every "
                                    "parameter needs a value). Files are written atomically.")
     p.add_argument("model", metavar="MODEL", help="model file (.py)")
-    p.add_argument("--format", "-f", choices=["mat", "npz", "json", "c", "m", "py", "fmu"],
+    p.add_argument("--format", "-f", choices=list(dict.fromkeys(EXPORT_FORMATS.values())),
                    help="output format (default: from the output file's suffix)")
     p.add_argument("--params", metavar="FILE", help="parameter values, JSON or TOML")
     p.add_argument("--name", metavar="NAME", help="C symbol prefix (default: the model's name)")

@@ -75,13 +75,16 @@ from .errors import BondGraphError
 from .numeric.plant import NumericStateSpace
 
 __all__ = ["ExportError", "FORMAT_NAME", "FORMAT_VERSION", "export", "export_mat", "export_npz",
-           "export_json", "load_json", "atomic_write", "atomic_write_many", "FORMATS",
+           "export_json", "load_json", "atomic_write", "atomic_write_many", "FORMATS", "EXPORT_FORMATS",
            "decode_json", "number_problem", "checked_path", "HugeInt"]
 
 FORMAT_NAME = "bondgraph-statespace"
 FORMAT_VERSION = 1
-#: file suffix -> format name understood by :func:`export`
+#: file suffix -> format name understood by :func:`export` (numeric plants)
 FORMATS = {".mat": "mat", ".npz": "npz", ".json": "json"}
+#: file suffix -> every format ``bondgraph export`` writes: the plant formats above, generated
+#: code (C with its header, MATLAB/Octave, Python) and FMUs; the one table the CLI reads
+EXPORT_FORMATS = {**FORMATS, ".c": "c", ".m": "m", ".py": "py", ".fmu": "fmu"}
 
 from .files import (ExportError, HugeInt, PathLike, _short, _target, _unlink, atomic_write,  # noqa: F401
                     atomic_write_many, checked_path, decode_json, number_problem)

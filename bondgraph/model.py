@@ -90,6 +90,8 @@ class Model:
     #: parameter names a model definition declares beyond its elements' (the
     #: defaults of a model file that serves several variants)
     declared_parameters: tuple[str, ...] = field(default=(), repr=False)
+    #: results computed once per model (state_space, descriptor_form); not part of equality
+    _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     # ----------------------------------------------------------------- names
     @property
@@ -191,11 +193,14 @@ class Model:
         >>> ss.A, ss.B, ss.C, ss.D
         (Matrix([[-1/(C*R)]]), Matrix([[1/R]]), Matrix([[1/C]]), Matrix([[0]]))
         """
-        x, u = self.states, self.inputs
-        A, B = _linear_form(self.rhs, x, u, self, "state equation", "x'")
-        C, D = _linear_form(self.output_exprs, x, u, self, "output", "y")
-        return SymbolicStateSpace(A, B, C, D, self.state_names, self.input_names, self.output_names,
-                                  known_parameters=self.known_parameters)
+        if "state_space" not in self._cache:
+            x, u = self.states, self.inputs
+            A, B = _linear_form(self.rhs, x, u, self, "state equation", "x'")
+            C, D = _linear_form(self.output_exprs, x, u, self, "output", "y")
+            self._cache["state_space"] = SymbolicStateSpace(
+                A, B, C, D, self.state_names, self.input_names, self.output_names,
+                known_parameters=self.known_parameters)
+        return self._cache["state_space"]
 
     def _laplace_system(self, descriptor: bool, s: sympy.Symbol, outputs=None):
         """``A, B(s), C, D(s), E`` of the Laplace-transformed equations.
@@ -511,8 +516,13 @@ class Model:
     def descriptor_form(self) -> SymbolicStateSpace:
         """``E x' = A x + B u`` as derived, before eliminating dependent storage.
 
-        Without derivative causality ``E`` is the identity.
+        Without derivative causality ``E`` is the identity.  Computed once per model.
         """
+        if "descriptor_form" not in self._cache:
+            self._cache["descriptor_form"] = self._descriptor_form()
+        return self._cache["descriptor_form"]
+
+    def _descriptor_form(self) -> SymbolicStateSpace:
         if self.descriptor is None:
             ss = self.state_space()
             return SymbolicStateSpace(ss.A, ss.B, ss.C, ss.D, ss.state_names,
