@@ -1,19 +1,23 @@
 """Causality by the Sequential Causality Assignment Procedure (SCAP).
 
-Sources first, then storage elements one at a time with integral causality
-preferred, then R elements where a choice remains, then any junction bond
-still open; after each choice the consequences are propagated through
-junctions, TF and GY with a worklist.  Junctions keep counters, so without
-conflicts each bond is handled a bounded number of times and the procedure
-is linear in the number of bonds.
+The rules are the elements' own (the element protocol,
+:mod:`bondgraph.protocol`); this module only searches.  Forced decisions first
+(sources), then the elements' choice points by priority (storage elements one
+at a time with integral causality preferred, then R elements where a choice
+remains), then any junction bond still open; after each decision the elements
+at both ends of the bond apply their propagation rule (junctions, TF, GY) from
+a worklist.  The rules see counters of decided ports, so without conflicts
+each bond is handled a bounded number of times and the procedure is linear in
+the number of bonds.
 
 The choices are made in an order that depends only on the graph, never on
-the order of ``add``/``connect``: storage elements nearest a source first
-(fewest bonds away), ties broken by name.  A conflict is not final: the
-decisions since the latest choice that has an alternative are undone
-(a journal) and the alternative is tried, so a valid assignment is found
-whenever one exists, and a storage element ends in derivative causality only
-when no valid assignment keeps it integral together with those before it.
+the order of ``add``/``connect``: by priority, then nearest a source (fewest
+bonds away from an element with forced decisions), ties broken by name.  A
+conflict is not final: the decisions since the latest choice that has an
+alternative are undone (a journal) and the alternative is tried, so a valid
+assignment is found whenever one exists, and a storage element ends in
+derivative causality only when no valid assignment keeps it integral together
+with those before it.
 
 The causal stroke of a bond sits at the end of the element that *receives
 effort* (and so sends flow back).
@@ -43,11 +47,9 @@ import networkx as nx
 from .errors import CausalityConflictError, CausalityError
 from .flatten import FlatGraph, flatten
 from .graph import Bond, BondGraph
+from .protocol import ARBITRARY, DERIVATIVE, INTEGRAL, CausalPorts, Element
 
 __all__ = ["AugmentedBondGraph", "CausalBond", "assign_causality", "dependencies"]
-
-_STORAGE = ("I", "C")
-_TWO_PORT = ("TF", "GY", "MTF", "MGY")
 
 
 @dataclass(frozen=True)
@@ -194,6 +196,41 @@ def assign_causality(graph: Union[BondGraph, FlatGraph], *,
     return _Scap(flat, frozenset(prefer_derivative)).run()
 
 
+class _Ports(CausalPorts):
+    """One element's ports as SCAP sees them: port p is bond ``inc[p]``; counters kept
+    up to date by :meth:`_Scap._set` and :meth:`_Scap._undo`."""
+
+    __slots__ = ("scap", "name", "inc", "count", "undecided", "efforts_in")
+
+    def __init__(self, scap: "_Scap", name: str, inc: tuple[int, ...]) -> None:
+        self.scap = scap
+        self.name = name
+        self.inc = inc
+        self.count = len(inc)
+        self.undecided = len(inc)
+        self.efforts_in = 0      # decided bonds with effort into the element
+
+    def effort_in(self, port: int):
+        k = self.inc[port]
+        v = self.scap.head_gets_effort[k]
+        if v is None:
+            return None
+        return v if self.scap.bonds[k].head == self.name else not v
+
+    def open(self) -> list[int]:
+        hge = self.scap.head_gets_effort
+        return [p for p, k in enumerate(self.inc) if hge[k] is None]
+
+    def reason(self, port: int) -> str:
+        return self.scap.why[self.inc[port]]
+
+    def number(self, port: int) -> int:
+        return self.scap.bonds[self.inc[port]].number
+
+    def into(self, port: int) -> bool:
+        return self.scap.bonds[self.inc[port]].head == self.name
+
+
 class _Scap:
     """SCAP as a depth-first search over its choices, with a journal to undo them.
 
@@ -215,8 +252,10 @@ class _Scap:
         nb = len(self.bonds)
         self.head_gets_effort: list = [None] * nb
         self.why: list = [None] * nb
-        self.undecided = {n: len(flat.incidence[n]) for n in flat.index}
-        self.efforts_in = {n: 0 for n in flat.index}  # decided bonds with effort into n
+        self.element: dict[str, Element] = {el.name: el for el in flat.elements}
+        self.ports = {n: _Ports(self, n, flat.incidence[n]) for n in flat.index}
+        self.origins: list[str] = []   # elements that force decisions (sources)
+        self.element_bonds: set[int] = set()   # bonds with a choice point of their element
         self.queue: deque = deque()
         self.trail: list[int] = []  # every decided bond, in order (the journal)
         self.budget = 200 * (nb + 10) + 100_000  # propagation steps before giving up
@@ -241,21 +280,17 @@ class _Scap:
         self.why[k] = reason
         self.trail.append(k)
         for end in (b.tail, b.head):
-            self.undecided[end] -= 1
+            ports = self.ports[end]
+            ports.undecided -= 1
             if self._ein(end, k):
-                self.efforts_in[end] += 1
+                ports.efforts_in += 1
             self.queue.append(end)
 
     def _conflict(self, k: int, name: str, effort_in: bool, reason: str) -> str:
         b = self.bonds[k]
         el = self.flat.element(name)
         need = "to receive effort" if effort_in else "to impose effort"
-        hint = ""
-        kinds = {self.flat.element(b.tail).kind, self.flat.element(b.head).kind}
-        if "Sf" in kinds or "Se" in kinds:
-            hint = (" Two sources fix the same variable (two Sf on a 1-junction or two "
-                    "Se on a 0-junction), or a source drives a storage-free node the wrong "
-                    "way: remove one source or put a storage or R element between them.")
+        hint = self.element[b.tail].conflict_hint or self.element[b.head].conflict_hint
         return (f"causality conflict on bond {b.number} ({b.tail} -> {b.head}): "
                 f"{el.label()} needs it {need} ({reason}), but it was already decided by "
                 f"{self.why[k]}.{hint}")
@@ -266,9 +301,10 @@ class _Scap:
             k = self.trail.pop()
             b = self.bonds[k]
             for end in (b.tail, b.head):
-                self.undecided[end] += 1
+                ports = self.ports[end]
+                ports.undecided += 1
                 if self._ein(end, k):
-                    self.efforts_in[end] -= 1
+                    ports.efforts_in -= 1
             self.head_gets_effort[k] = None
             self.why[k] = None
         self.queue.clear()
@@ -284,66 +320,14 @@ class _Scap:
                     "Assign causality by hand-simplifying the junction structure."
                 )
             name = self.queue.popleft()
-            el = flat.element(name)
-            kind = el.kind
-            inc = flat.incidence[name]
-            if kind in ("0", "1"):
-                # 0: exactly one bond brings effort in; 1: exactly one takes effort out
-                strong_is_in = kind == "0"
-                n = len(inc)
-                strong = self.efforts_in[name] if strong_is_in else \
-                    (n - self.undecided[name] - self.efforts_in[name])
-                if strong > 1:
-                    ks = [k for k in inc if self._ein(name, k) is strong_is_in]
-                    raise CausalityConflictError(
-                        f"causality conflict at {el.label()}: bonds "
-                        f"{', '.join(str(self.bonds[k].number) for k in ks)} all "
-                        f"{'impose its effort' if strong_is_in else 'set its flow'} "
-                        f"(from {', '.join(str(self.why[k]) for k in ks)}); a "
-                        f"{kind}-junction takes exactly one. Remove one of the sources "
-                        "or add a storage or R element between them."
-                    )
-                if self.undecided[name] == 0:
-                    if strong == 0:
-                        raise CausalityConflictError(
-                            f"causality conflict at {el.label()}: no bond "
-                            f"{'imposes its effort' if strong_is_in else 'sets its flow'}"
-                        )
-                    continue
-                if strong == 1:
-                    for k in inc:
-                        if self.head_gets_effort[k] is None:
-                            self._set(k, name, not strong_is_in, f"{el.label()}")
-                elif self.undecided[name] == 1:
-                    for k in inc:
-                        if self.head_gets_effort[k] is None:
-                            self._set(k, name, strong_is_in, f"{el.label()}")
-            elif kind in _TWO_PORT:
-                k1, k2 = inc
-                a, b = self._ein(name, k1), self._ein(name, k2)
-                # TF passes effort through (exactly one port receives it); GY
-                # turns flow into effort (both ports receive effort, or neither)
-                same = kind in ("GY", "MGY")
-                if a is not None and b is None:
-                    self._set(k2, name, a if same else not a, el.label())
-                elif b is not None and a is None:
-                    self._set(k1, name, b if same else not b, el.label())
-                elif a is not None and b is not None and (a == b) != same:
-                    raise CausalityConflictError(
-                        f"causality conflict at {el.label()}: bonds {self.bonds[k1].number} and "
-                        f"{self.bonds[k2].number} were decided independently "
-                        f"(by {self.why[k1]} and {self.why[k2]}) and "
-                        + ("both bring effort into it or both take it out; a "
-                           f"{kind} passes effort from one port to the other"
-                           if not same else
-                           "only one of them brings effort in; a "
-                           f"{kind} takes effort on both ports or on neither")
-                    )
+            ports = self.ports[name]
+            for port, effort_in, reason in self.element[name].propagate(ports):
+                self._set(ports.inc[port], name, effort_in, reason)
 
     def _distance_from_sources(self) -> dict[str, int]:
-        """Number of bonds from each element to the nearest source (breadth first)."""
+        """Number of bonds from each element to the nearest origin (breadth first)."""
         flat = self.flat
-        dist = {el.name: 0 for el in flat.elements if el.kind in ("Se", "Sf")}
+        dist = {name: 0 for name in self.origins}
         frontier = deque(sorted(dist))
         while frontier:
             name = frontier.popleft()
@@ -356,24 +340,21 @@ class _Scap:
         return dist
 
     def _choices(self) -> list[tuple[int, str, bool, str]]:
-        """(bond, element, preferred effort_in, reason) per choice point, in name order."""
+        """(bond, element, preferred effort_in, reason) per choice point: the elements'
+        choices by priority, then the bonds still open, in name order."""
         flat = self.flat
         # storage nearest the sources first (the motor's inertia before the load's),
         # ties by name: nothing here depends on the order of add/connect
         dist = self._distance_from_sources()
         by_name = sorted(flat.elements, key=lambda el: (dist.get(el.name, len(dist) + 1), el.name))
-        out = []
+        groups: dict[int, list[tuple[int, str, bool, str]]] = {}
         for el in by_name:
-            if el.kind in _STORAGE:
-                (k,) = flat.incidence[el.name]
-                if el.name in self.prefer_derivative:
-                    out.append((k, el.name, el.kind != "I", f"derivative causality of {el.label()}"))
-                else:
-                    out.append((k, el.name, el.kind == "I", f"integral causality of {el.label()}"))
-        for el in by_name:
-            if el.kind == "R":
-                (k,) = flat.incidence[el.name]
-                out.append((k, el.name, False, f"arbitrary choice for {el.label()}"))
+            inc = flat.incidence[el.name]
+            for c in el.causal_choices(el.name in self.prefer_derivative):
+                groups.setdefault(c.priority, []).append(
+                    (inc[c.port], el.name, c.effort_in, c.reason))
+        out = [choice for priority in sorted(groups) for choice in groups[priority]]
+        self.element_bonds = {choice[0] for choice in out}
         seen: dict[tuple[str, str], int] = {}
         keyed = []
         for k, b in enumerate(self.bonds):
@@ -436,30 +417,30 @@ class _Scap:
         flat = self.flat
         els = flat.elements
         for el in sorted(els, key=lambda el: el.name):
-            if el.kind in ("Se", "Sf"):
-                (k,) = flat.incidence[el.name]
-                self._set(k, el.name, el.kind == "Sf", f"source {el.label()}")
+            ports = self.ports[el.name]
+            forced = el.forced_causality(ports)
+            if forced:
+                self.origins.append(el.name)
+                for port, effort_in, reason in forced:
+                    self._set(ports.inc[port], el.name, effort_in, reason)
                 self._propagate()
         chosen = self._search()
-        integral: list[str] = []
-        derivative: list[str] = []
-        arbitrary: list[str] = []
-        arbitrary_bonds: list[int] = []
+        found: dict[str, list[str]] = {INTEGRAL: [], DERIVATIVE: [], ARBITRARY: []}
+        hge, bonds = self.head_gets_effort, self.bonds
         for el in els:
-            if el.kind in _STORAGE:
-                (k,) = flat.incidence[el.name]
-                (integral if self._ein(el.name, k) == (el.kind == "I") else derivative).append(el.name)
-            elif el.kind == "R" and flat.incidence[el.name][0] in chosen:
-                arbitrary.append(el.name)
-        one_ports = {flat.incidence[el.name][0] for el in els
-                     if el.kind in _STORAGE or el.kind == "R"}
-        arbitrary_bonds = sorted(k + 1 for k in chosen if k not in one_ports)
+            name = el.name
+            inc = flat.incidence[name]
+            cls = el.causal_class([hge[k] if bonds[k].head == name else not hge[k] for k in inc],
+                                  [k in chosen for k in inc])
+            if cls is not None:
+                found[cls].append(el.name)
+        arbitrary_bonds = sorted(k + 1 for k in chosen if k not in self.element_bonds)
         aug = AugmentedBondGraph(
             flat=flat,
             stroke_at_head=tuple(self.head_gets_effort),
-            integral=tuple(integral),
-            derivative=tuple(derivative),
-            arbitrary=tuple(arbitrary),
+            integral=tuple(found[INTEGRAL]),
+            derivative=tuple(found[DERIVATIVE]),
+            arbitrary=tuple(found[ARBITRARY]),
             arbitrary_bonds=tuple(arbitrary_bonds),
         )
         return _with_loops(aug)
@@ -502,43 +483,20 @@ def dependencies(aug: AugmentedBondGraph) -> tuple[list[int], list[tuple[int, ..
     producer = [0] * nvar
     inputs: list[tuple[int, ...]] = [()] * nvar
 
-    def ein(name: str, k: int) -> bool:
-        return hge[k] if bonds[k].head == name else not hge[k]
-
-    def incoming(name: str, k: int) -> int:
-        return 2 * k if ein(name, k) else 2 * k + 1
-
-    def outgoing(name: str, k: int) -> int:
-        return 2 * k + 1 if ein(name, k) else 2 * k
-
+    causality = {n: INTEGRAL for n in aug.integral}
+    causality.update((n, DERIVATIVE) for n in aug.derivative)
+    causality.update((n, ARBITRARY) for n in aug.arbitrary)
     for idx, el in enumerate(flat.elements):
-        name, kind = el.name, el.kind
+        name = el.name
         inc = flat.incidence[name]
-        if kind in ("0", "1"):
-            strong_in = kind == "0"
-            strong = next(k for k in inc if ein(name, k) is strong_in)
-            out_strong = outgoing(name, strong)
-            producer[out_strong] = idx
-            inputs[out_strong] = tuple(incoming(name, k) for k in inc if k != strong)
-            src = incoming(name, strong)
-            for k in inc:
-                if k != strong:
-                    v = outgoing(name, k)
-                    producer[v] = idx
-                    inputs[v] = (src,)
-        elif kind in _TWO_PORT:
-            # TF: e1 = n e2, f2 = n f1; GY: e1 = r f2, e2 = r f1 -- either way each
-            # port's output is computed from the other port's input
-            k1, k2 = inc
-            for a, b in ((k1, k2), (k2, k1)):
-                producer[outgoing(name, a)] = idx
-                inputs[outgoing(name, a)] = (incoming(name, b),)
-        else:
-            (k,) = inc
-            v = outgoing(name, k)
+        ein = [hge[k] if bonds[k].head == name else not hge[k] for k in inc]
+        reads = el.output_dependencies(ein, causality.get(name))
+        for p, k in enumerate(inc):
+            v = 2 * k + 1 if ein[p] else 2 * k        # the element's output on port p
             producer[v] = idx
-            if kind == "R" or name in aug.derivative:
-                inputs[v] = (incoming(name, k),)
+            ports = reads[p]
+            if ports:                                  # the input variables it reads
+                inputs[v] = tuple([2 * inc[q] if ein[q] else 2 * inc[q] + 1 for q in ports])
     return producer, inputs
 
 

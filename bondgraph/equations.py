@@ -34,12 +34,11 @@ Examples
 from __future__ import annotations
 
 import warnings
-from typing import Mapping, Optional, Union, cast
+from typing import Mapping, Optional, Union
 
 import sympy
 
 from .causality import AugmentedBondGraph, assign_causality, dependencies
-from .elements import Element, OnePort, TwoPort
 from .errors import (AlgebraicLoopError, BondGraphWarning, CausalityError, NameClashError,
                      OutputError)
 from .flatten import FlatGraph
@@ -47,7 +46,8 @@ from .graph import BondGraph
 from .integrators import state_combination
 from .loops import SingularLoopError, compact_linear, solve_blocks
 from .model import Model
-from .signals import LawVariable, Signal, e as E_VAR, f as F_VAR, p as P_VAR, q as Q_VAR, t as T_SYM
+from .protocol import Element, LocalVariables
+from .signals import Signal, t as T_SYM
 
 __all__ = ["derive"]
 
@@ -130,19 +130,11 @@ def derive(graph: Union[BondGraph, AugmentedBondGraph], outputs: OutputSpec = No
 
 
 def _warn_reversed(flat: FlatGraph) -> None:
-    """Warn once per element whose bond carries power out of an I, C or R."""
+    """Warn what the elements find suspicious in their bonds' directions (a bond
+    carrying power out of an I, C or R)."""
     for el in flat.elements:
-        if isinstance(el, OnePort):
-            (k,) = flat.incidence[el.name]
-            b = flat.bonds[k]
-            if b.tail == el.name:
-                warnings.warn(
-                    f"bond {b.number} points out of {el.label()} ({b.tail} -> {b.head}): its "
-                    "law holds for power flowing into it, so its flow (and momentum or "
-                    f"displacement) has the opposite sign; connect(..., {el.name!r}) is the usual "
-                    "direction. Silence with warnings.simplefilter('ignore', "
-                    "bondgraph.BondGraphWarning)",
-                    BondGraphWarning, stacklevel=3)
+        for message in el.bond_warnings(tuple(flat.bonds[k] for k in flat.incidence[el.name])):
+            warnings.warn(message, BondGraphWarning, stacklevel=3)
 
 
 def _check_outputs(outputs: OutputSpec) -> dict[str, sympy.Expr]:
@@ -176,7 +168,7 @@ class _Deriver:
         self.val: list = [None] * self.nvar
         self.states: list[sympy.Symbol] = []
         self.state_names: list[str] = []
-        self.state_of: dict[str, sympy.Symbol] = {}   # integral storage element -> state
+        self.state_of: dict[str, tuple[sympy.Symbol, ...]] = {}   # integral storage -> states
         self.integrators: dict[Signal, sympy.Symbol] = {}
         self.input_syms: list[sympy.Symbol] = []
         self.input_of: dict[str, sympy.Symbol] = {}
@@ -186,9 +178,15 @@ class _Deriver:
         # storage in derivative causality: its output variable and stored quantity are
         # unknowns during the causal sweep, resolved once the algebraic loops are solved
         self.dependent: dict[int, str] = {}            # output var -> element name
-        self.stored_sym: dict[str, sympy.Symbol] = {}  # element name -> its p or q
+        self.dependent_vars: dict[str, list[int]] = {}  # element name -> its output vars
+        self.stored_sym: dict[str, tuple[sympy.Symbol, ...]] = {}  # element -> its p or q
         # an integrator that is exactly an output takes the output's name
         self.preferred = {ex: n for n, ex in outputs.items() if isinstance(ex, Signal)}
+        # port of each bond end: bond k is port port_at[k][0] of its tail, [1] of its head
+        self.port_at: list[list[int]] = [[0, 0] for _ in self.bonds]
+        for name, inc in self.flat.incidence.items():
+            for port, k in enumerate(inc):
+                self.port_at[k][self.bonds[k].head == name] = port
 
     # ------------------------------------------------------------ naming
     def _sign(self, name: str, k: int) -> int:
@@ -208,19 +206,26 @@ class _Deriver:
             )
         self.roles[name] = role
 
+    def _effort_in(self, el: Element) -> list[bool]:
+        """Per port of ``el``: does it receive the effort?"""
+        name, hge, bonds = el.name, self.aug.stroke_at_head, self.bonds
+        return [hge[k] if bonds[k].head == name else not hge[k] for k in self.flat.incidence[name]]
+
     def _make_symbols(self) -> None:
-        integral = set(self.aug.integral)
         self.roles: dict[str, str] = {T_SYM.name: "time"}
         for el in self.flat.elements:
-            if el.kind in ("I", "C") and el.name in integral:
-                sym = sympy.Symbol(("p_" if el.kind == "I" else "q_") + el.name, real=True)
-                self._claim(sym.name, f"the state of {el.label()}")
-                self.state_of[el.name] = sym
-                self.states.append(sym)
-                self.state_names.append(sym.name)
+            names = el.state_names(self._effort_in(el))
+            if names:
+                syms = tuple(sympy.Symbol(n, real=True) for n in names)
+                for sym in syms:
+                    self._claim(sym.name, f"the state of {el.label()}")
+                    self.states.append(sym)
+                    self.state_names.append(sym.name)
+                self.state_of[el.name] = syms
         for el in self.flat.elements:
-            if el.kind in ("Se", "Sf") and getattr(el, "value", None) is None:
-                sym = sympy.Symbol(el.name, real=True)
+            name = el.input_name()
+            if name is not None:
+                sym = sympy.Symbol(name, real=True)
                 self._claim(sym.name, f"the input of {el.label()}")
                 self.input_of[el.name] = sym
                 self.input_syms.append(sym)
@@ -262,8 +267,8 @@ class _Deriver:
     # ------------------------------------------------------------ signals
     def _signal_var(self, sig: Signal) -> tuple[int, int]:
         """(var, sign) of an effort/flow signal; var is a bond variable id."""
-        kind, target = sig.variable, sig.target
-        want_flow = kind in ("flow", "displacement")
+        target = sig.target
+        want_flow = sig.variable in ("flow", "displacement")
         if isinstance(target, int):
             if not 1 <= target <= len(self.bonds):
                 raise OutputError(f"signal {sig} names nothing: model {self.flat.name!r} has "
@@ -278,14 +283,11 @@ class _Deriver:
             )
         el = self.flat.element(target)
         inc = self.flat.incidence[target]
-        if el.kind in ("Se", "Sf", "I", "C", "R"):
-            (k,) = inc
-            return 2 * k + (1 if want_flow else 0), (self._sign(target, k) if want_flow else 1)
-        if el.kind == "0" and not want_flow:
-            return 2 * inc[0], 1
-        if el.kind == "1" and want_flow:
-            k = inc[0]
-            return 2 * k + 1, 1
+        carried = el.signal_port("flow" if want_flow else "effort")
+        if carried is not None:
+            port, signed = carried
+            k = inc[port]
+            return 2 * k + (1 if want_flow else 0), (self._sign(target, k) if signed else 1)
         raise OutputError(
             f"signal {sig}: the {'flow' if want_flow else 'effort'} of {el.label()} is not a "
             "single variable; name a one-port element, the effort of a 0-junction, the flow "
@@ -306,14 +308,14 @@ class _Deriver:
             v, sign = self._signal_var(sig)
             return sign * self._inp(v)
         if isinstance(sig.target, str) and sig.target in self.flat.index:
-            el = self.flat.element(sig.target)
-            if (sig.variable == "displacement" and el.kind == "C") or (sig.variable == "momentum" and el.kind == "I"):
+            i = self.flat.element(sig.target).energy_variable(sig.variable)
+            if i is not None:
                 if sig.target in self.state_of:
-                    return self.state_of[sig.target]
+                    return self.state_of[sig.target][i]
                 if sig.target in self.stored_sym:
                     # a storage element in derivative causality: its momentum or
                     # displacement is an algebraic function (p = I*f, q = C*e), not a state
-                    return self.stored_sym[sig.target]
+                    return self.stored_sym[sig.target][i]
         self._signal_var(sig)  # validate the target
         return self._integrator(sig)
 
@@ -322,41 +324,34 @@ class _Deriver:
         return expr.xreplace(sigs) if sigs else expr
 
     # ------------------------------------------------------------ ordering
-    def _dependent_var(self, name: str) -> int:
-        (k,) = self.flat.incidence[name]
-        return 2 * k if self.flat.element(name).kind == "I" else 2 * k + 1
-
     @staticmethod
     def _unknown(v: int) -> sympy.Symbol:
         """Loop unknown for bond variable v: a Dummy, so no user name can clash with it."""
         return sympy.Dummy(f"{'e' if v % 2 == 0 else 'f'}_{v // 2 + 1}", real=True)
 
     def _break_dependent(self) -> None:
-        for name in self.aug.derivative:
-            el = self.flat.element(name)
-            (k,) = self.flat.incidence[name]
-            v = 2 * k if el.kind == "I" else 2 * k + 1   # I gives effort, C gives flow
-            self.dependent[v] = name
-            self.broken[v] = sympy.Dummy(f"{'e' if el.kind == 'I' else 'f'}_{name}", real=True)
-            self.stored_sym[name] = sympy.Dummy(f"{'p' if el.kind == 'I' else 'q'}_{name}", real=True)
-
-    def _stored(self, name: str) -> tuple[sympy.Expr, int]:
-        """Stored quantity (p or q) of a storage element in derivative causality, and the
-        sign of its output on the bond, from the bond variable it receives."""
-        el = cast(OnePort, self.flat.element(name))
-        (k,) = self.flat.incidence[name]
-        s = self._sign(name, k)
-        if el.kind == "I":
-            stored = _subs(el.backward(), F_VAR, s * self.val[2 * k + 1])
-            return (self._resolve(stored) if el.signals() else stored), 1
-        stored = _subs(el.backward(), E_VAR, self.val[2 * k])
-        return (self._resolve(stored) if el.signals() else stored), s
+        for el in self.flat.elements:
+            effort_in = self._effort_in(el)
+            ports = el.derivative_ports(effort_in)
+            if not ports:
+                continue
+            name, inc = el.name, self.flat.incidence[el.name]
+            outs = self.dependent_vars[name] = []
+            for port in ports:
+                k = inc[port]
+                v = 2 * k + 1 if effort_in[port] else 2 * k     # its output variable
+                self.dependent[v] = name
+                tag = f"_{port + 1}" if len(inc) > 1 else ""
+                self.broken[v] = sympy.Dummy(f"{'f' if v % 2 else 'e'}_{name}{tag}", real=True)
+                outs.append(v)
+            self.stored_sym[name] = tuple(sympy.Dummy(n, real=True)
+                                          for n in el.stored_names(effort_in))
 
     def _break_loops(self) -> None:
-        for name in self.aug.arbitrary:
-            (k,) = self.flat.incidence[name]
-            v = 2 * k if self._ein(name, k) else 2 * k + 1
-            self.broken[v] = self._unknown(v)
+        for name in self.aug.arbitrary:      # each input of an arbitrarily-causal element
+            for k in self.flat.incidence[name]:
+                v = 2 * k if self._ein(name, k) else 2 * k + 1
+                self.broken[v] = self._unknown(v)
         for number in self.aug.arbitrary_bonds:
             k = number - 1
             v = 2 * k if self.aug.stroke_at_head[k] else 2 * k + 1
@@ -424,75 +419,33 @@ class _Deriver:
                 )
         return sympy.Add(*terms)
 
+    def _local(self, el: Element, read) -> "_Local":
+        """The element's view of its variables; ``read`` gives a bond variable's value."""
+        return _Local(self, el.name, self.flat.incidence[el.name], read)
+
     def _compute(self, v: int) -> sympy.Expr:
         el = self.flat.elements[self.producer[v]]
-        out = self._rule(el, v)
-        if el.kind in ("I", "C", "R") and el.signals():
-            out = self._resolve(out)
-        return out
-
-    def _rule(self, el: Element, v: int) -> sympy.Expr:
-        name, kind = el.name, el.kind
         k = v // 2
-        is_flow = v % 2 == 1
-        inc = self.flat.incidence[name]
-        if kind in ("Se", "Sf"):
-            given = getattr(el, "value", None)
-            u = self.input_of[name] if given is None else self._resolve(given)
-            return u if kind == "Se" else -self._sign(name, k) * u
-        if isinstance(el, OnePort):
-            s = self._sign(name, k)
-            own = {"I": P_VAR, "C": Q_VAR, "R": F_VAR}[kind]
-            if name in self.state_of:  # integral: output from the state
-                out = _subs(el.forward(), own, self.state_of[name])
-                return s * out if kind == "I" else out
-            dual_in = self._inp(v ^ 1)
-            if kind == "R":
-                if is_flow:   # f = inverse(e)
-                    return s * _subs(el.backward(), E_VAR, dual_in)
-                return _subs(el.forward(), F_VAR, s * dual_in)
-            raise AssertionError(f"{el.label()} is in derivative causality")  # pragma: no cover
-        if kind in ("0", "1"):
-            strong_in = kind == "0"
-            strong = next(j for j in inc if self._ein(name, j) is strong_in)
-            if k != strong:
-                return self._inp(self.inputs[v][0])
-            terms = [self._sign(name, j) * self._inp(2 * j + (1 if strong_in else 0))
-                     for j in inc if j != strong]
-            return -self._sign(name, strong) * sympy.Add(*terms)
-        if isinstance(el, TwoPort):
-            mod = cast(sympy.Expr, el.modulus)     # resolved to an expression by the element
-            if kind in ("MTF", "MGY"):
-                mod = self._resolve(mod)
-            k_in = inc[0] if self.bonds[inc[0]].head == name else inc[1]
-            other = inc[1] if k_in == inc[0] else inc[0]
-            x = self._inp(self.inputs[v][0])
-            eta = cast(sympy.Expr, el.efficiency)
-            if kind in ("TF", "MTF"):
-                # e1 = n e2 / eta, f2 = n f1 ; or e2 = eta e1 / n, f1 = f2 / n
-                if is_flow:
-                    return mod * x if k == other else x / mod
-                return mod * x / eta if k == k_in else eta * x / mod
-            # GY: e1 = r f2, e2 = eta r f1 ; or f2 = e1 / r, f1 = e2 / (eta r)
-            if not is_flow:
-                return mod * x if k == k_in else eta * mod * x
-            return x / mod if k == other else x / (eta * mod)
-        raise AssertionError(f"no rule for {el.label()}")  # pragma: no cover
+        return el.output(self._local(el, self._inp), self.port_at[k][self.bonds[k].head == el.name])
 
     # ------------------------------------------------------------ solving
     def _knowns(self) -> set:
         """Symbols that are not parameters: states, inputs, their derivatives, unknowns, t."""
         return (set(self.states) | set(self.input_syms) | set(self.xdot.values())
                 | set(self.udot.values()) | set(self.broken.values())
-                | set(self.stored_sym.values()) | {T_SYM})
+                | {x for xs in self.stored_sym.values() for x in xs} | {T_SYM})
 
     def _solve_blocks(self, unknowns: dict[sympy.Symbol, sympy.Expr], what: str) -> dict:
         """Solve u = expr(u, ...) for the unknowns (see :func:`bondgraph.loops.solve_blocks`)."""
         try:
+            # one key per state; an element with several states has keys name, name\0 1, ...
+            states = {name + (f"\0{i}" if i else ""): x for name, xs in self.state_of.items()
+                      for i, x in enumerate(xs)}
             return solve_blocks(unknowns, knowns=self._knowns(), what=what,
-                                model=self.flat.name, states=self.state_of)
+                                model=self.flat.name, states=states)
         except SingularLoopError as err:
-            err.storage = tuple(dict.fromkeys(err.storage + self._storage_near(err.block)))
+            storage = tuple(n.split("\0")[0] for n in err.storage)
+            err.storage = tuple(dict.fromkeys(storage + self._storage_near(err.block)))
             var_of = {sym: v for v, sym in self.broken.items()}
             bonds = [f"{u.name} is the {'effort' if var_of[u] % 2 == 0 else 'flow'} of bond "
                      f"{self.bonds[var_of[u] // 2]}" for u in err.block
@@ -504,7 +457,7 @@ class _Deriver:
     def _storage_near(self, block) -> tuple[str, ...]:
         """Integral storage on the junctions that a singular block's bonds touch."""
         var_of = {sym: v for v, sym in self.broken.items()}
-        state_el = {x: n for n, x in self.state_of.items()}
+        state_el = {x: n for n, xs in self.state_of.items() for x in xs}
         xdot_state = {xd: x for x, xd in self.xdot.items()}
         junctions: set[str] = set()
         for u in block:
@@ -512,8 +465,8 @@ class _Deriver:
                 b = self.bonds[var_of[u] // 2]
                 junctions |= {b.tail, b.head}
             elif u in xdot_state and xdot_state[u] in state_el:
-                (k,) = self.flat.incidence[state_el[xdot_state[u]]]
-                junctions |= {self.bonds[k].tail, self.bonds[k].head}
+                for k in self.flat.incidence[state_el[xdot_state[u]]]:
+                    junctions |= {self.bonds[k].tail, self.bonds[k].head}
         near = []
         for j in sorted(junctions):
             for k in self.flat.incidence.get(j, ()):
@@ -535,11 +488,7 @@ class _Deriver:
         raw: list[sympy.Expr] = []
         for el in self.flat.elements:
             if el.name in self.state_of:
-                (k,) = self.flat.incidence[el.name]
-                if el.kind == "I":
-                    raw.append(self.val[2 * k])
-                else:
-                    raw.append(self._sign(el.name, k) * self.val[2 * k + 1])
+                raw.extend(el.state_derivatives(self._local(el, self.val.__getitem__)))
         out_exprs = []
         for expr in self.outputs.values():
             out_exprs.append(self._resolve(expr))
@@ -555,23 +504,29 @@ class _Deriver:
         zsol = self._solve_blocks({z: self.val[v] for v, z in self.broken.items()
                                    if v not in self.dependent}, "algebraic loop")
         # storage in derivative causality: stored quantity and its time derivative
-        dep_syms = set(self.stored_sym.values()) | {self.broken[v] for v in self.dependent}
-        for v, name in self.dependent.items():
+        unknowns_of = {n: set(xs) | {self.broken[v] for v in self.dependent_vars[n]}
+                       for n, xs in self.stored_sym.items()}
+        dep_syms = set().union(*unknowns_of.values())
+        for name, outs in self.dependent_vars.items():
             el = self.flat.element(name)
-            stored, sign = self._stored(name)
-            stored = stored.xreplace(zsol)
-            if stored.free_symbols & dep_syms:
-                others = sorted(n for n, sym in self.stored_sym.items()
-                                if sym in stored.free_symbols or
-                                self.broken[self._dependent_var(n)] in stored.free_symbols)
-                raise AlgebraicLoopError(
-                    f"{el.label()} is in derivative causality and its input depends on the "
-                    f"storage element(s) {', '.join(others or [name])}, also in derivative "
-                    "causality (a higher-index model); make one of them compliant or add a "
-                    "storage element between them"
-                )
-            zsol[self.stored_sym[name]] = stored
-            zsol[self.broken[v]] = sign * self._ddt(stored, el)
+            local = self._local(el, self.val.__getitem__)
+            stored = [x.xreplace(zsol) for x in el.stored(local)]
+            for x in stored:
+                if x.free_symbols & dep_syms:
+                    others = sorted(n for n, syms in unknowns_of.items()
+                                    if syms & x.free_symbols)
+                    raise AlgebraicLoopError(
+                        f"{el.label()} is in derivative causality and its input depends on the "
+                        f"storage element(s) {', '.join(others or [name])}, also in derivative "
+                        "causality (a higher-index model); make one of them compliant or add a "
+                        "storage element between them"
+                    )
+            zsol.update(zip(self.stored_sym[name], stored))
+            rates = [self._ddt(x, el) for x in stored]
+            for v in outs:
+                k = v // 2
+                port = self.port_at[k][self.bonds[k].head == name]
+                zsol[self.broken[v]] = el.derivative_output(local, port, rates)
         if zsol:
             # loop unknowns may hold dependent-storage unknowns: substitute to the bottom
             for u in list(zsol):
@@ -657,13 +612,50 @@ class _Deriver:
         return [states[i] for i in keep], [rhs[i] for i in keep], out_exprs, descriptor
 
 
-def _subs(expr: sympy.Expr, var: LawVariable, value: sympy.Expr) -> sympy.Expr:
-    return expr.xreplace({var: value})
-
-
 def _law_expr(el: Element) -> Optional[sympy.Expr]:
     """Expression of an element holding signals (modulus or modulated law)."""
     sigs = el.signals()
     if not sigs:
         return None
     return sympy.Add(*sigs)
+
+
+class _Local(LocalVariables):
+    """An element's variables during derivation (the protocol's :class:`LocalVariables`)."""
+
+    __slots__ = ("d", "name", "inc", "read", "count")
+
+    def __init__(self, deriver: _Deriver, name: str, inc: tuple[int, ...], read) -> None:
+        self.d = deriver
+        self.name = name
+        self.inc = inc
+        self.read = read
+        self.count = len(inc)
+
+    @property
+    def states(self) -> tuple:      # type: ignore[override]
+        return self.d.state_of.get(self.name, ())
+
+    @property
+    def input_symbol(self) -> Optional[sympy.Symbol]:   # type: ignore[override]
+        return self.d.input_of.get(self.name)
+
+    def sign(self, port: int) -> int:
+        return 1 if self.d.bonds[self.inc[port]].head == self.name else -1
+
+    def into(self, port: int) -> bool:
+        return self.d.bonds[self.inc[port]].head == self.name
+
+    def effort_in(self, port: int) -> bool:
+        k = self.inc[port]
+        hge = self.d.aug.stroke_at_head[k]
+        return hge if self.d.bonds[k].head == self.name else not hge
+
+    def input(self, port: int) -> sympy.Expr:
+        k = self.inc[port]
+        hge = self.d.aug.stroke_at_head[k]
+        return self.read(2 * k if (hge if self.d.bonds[k].head == self.name else not hge)
+                         else 2 * k + 1)
+
+    def resolve(self, expr: sympy.Expr) -> sympy.Expr:
+        return self.d._resolve(expr)

@@ -146,15 +146,10 @@ def flatten(graph: BondGraph) -> FlatGraph:
     for k, fb in enumerate(flat_bonds):
         incidence[fb.tail].append(k)
         incidence[fb.head].append(k)
-    for name, el in elements.items():
-        least, most = el.bonds
-        n = len(incidence[name])
-        if n < least or (most is not None and n > most):
-            want = f"{least}" if least == most else f"at least {least}"
-            raise ModelStructureError(
-                f"element {el.label()} has {n} bond{'s' if n != 1 else ''}; expected {want}"
-                + ("" if n else " (connect it, or remove it from the graph)")
-            )
+    for name, el in elements.items():        # the elements' port rules
+        err = el.structure_error([flat_bonds[k] for k in incidence[name]])
+        if err is not None:
+            raise ModelStructureError(err)
     names = tuple(elements)
     return FlatGraph(
         name=graph.name,

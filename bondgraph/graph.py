@@ -1,8 +1,9 @@
 """The mutable bond-graph builder and its bonds.
 
 A :class:`BondGraph` holds elements, sub-models and bonds.  It checks each
-call as it is made (names, bond counts, direction of two-port bonds) so that
-errors surface at the wrong call, not at derivation.  Algorithms (causality,
+call as it is made (names, and each element's port rules: bond counts,
+direction of two-port bonds) so that errors surface at the wrong call, not
+at derivation.  Algorithms (causality,
 equations) are free functions that read a graph; they never change it.
 
 Examples
@@ -278,24 +279,9 @@ class BondGraph:
                     "a port takes exactly one bond (add a 0- or 1-junction to branch)"
                 )
             return
-        el = self._elements[end]
-        _, most = el.bonds
-        if most is not None and len(existing) >= most:
-            nums = ", ".join(str(b.number) for b in existing)
-            raise ModelStructureError(
-                f"graph {self.name!r}: element {el.label()} takes {most} bond"
-                f"{'s' if most > 1 else ''} and already has bond {nums}; cannot add bond "
-                f"{bond.tail} -> {bond.head}"
-            )
-        if el.kind in ("TF", "GY", "MTF", "MGY") and existing:
-            into = existing[0].head == end
-            if (bond.head == end) == into:
-                side = "into" if into else "out of"
-                raise ModelStructureError(
-                    f"graph {self.name!r}: {el.label()} already has bond {existing[0].number} "
-                    f"pointing {side} it; its other bond must point the other way "
-                    f"(port 1 is the bond into a {el.kind}, port 2 the bond out)"
-                )
+        err = self._elements[end].bond_error(existing, bond)   # the element's port rules
+        if err is not None:
+            raise ModelStructureError(f"graph {self.name!r}: {err}")
 
 
 def walk(graph: BondGraph, prefix: str = "") -> Iterable[tuple[str, BondGraph]]:

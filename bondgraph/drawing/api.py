@@ -84,15 +84,15 @@ def draw(obj: Drawable, path: Union[str, os.PathLike, None] = None, *,
     ...     os.path.getsize(os.path.join(d, "rc.png")) > 0
     True
     """
-    kind = None
+    form = None
     if path is not None:
-        kind = _format(path, fmt)
+        form = _format(path, fmt)
     elif fmt is not None and fmt.lower() not in _FORMATS:
         raise DrawingError(f"unknown drawing format {fmt!r}; expected one of {', '.join(_FORMATS)}")
     scene = build_scene(diagram(obj, causality=causality, expand=expand), wrap=wrap)
     svg = scene_to_svg(scene)
     if path is not None:
-        if kind == "svg":
+        if form == "svg":
             _atomic_write(path, lambda f: f.write(svg.encode("utf-8")))
         else:
             from .raster import write_png   # matplotlib only when a PNG is asked for
@@ -134,11 +134,11 @@ def repr_svg(obj: Drawable) -> Optional[str]:
 
 def _format(path, fmt: Optional[str]) -> str:
     if fmt is not None:
-        kind = fmt.lower().lstrip(".")
-        if kind not in _FORMATS:
+        form = fmt.lower().lstrip(".")
+        if form not in _FORMATS:
             raise DrawingError(f"unknown drawing format {fmt!r}; expected one of "
                                f"{', '.join(_FORMATS)}")
-        return kind
+        return form
     suffix = Path(os.fspath(path)).suffix.lower().lstrip(".")
     if suffix not in _FORMATS:
         raise DrawingError(

@@ -36,14 +36,12 @@ from typing import Mapping, Sequence
 
 import networkx as nx
 
-from .source import ONE_PORTS, SOURCES
+from ..protocol import drawing_role
+from .source import LEAF_ROLES, SOURCE_ROLES, UP_ROLES
 
 __all__ = ["grid_layout", "boxes_overlap", "overlapping_pairs"]
 
 Cell = tuple[int, int]
-
-#: leaves drawn above a path junction (right of a branch junction)
-_UP_KINDS = ("I", "C", "Se", "Sf", "Port")
 
 
 def grid_layout(names: Sequence[str], kinds: Mapping[str, str],
@@ -55,7 +53,10 @@ def grid_layout(names: Sequence[str], kinds: Mapping[str, str],
     names : sequence of str
         Node names, in the graph's order (used to break ties).
     kinds : mapping of str to str
-        Node kind: an element kind (``'Se'``, ``'1'``, ``'TF'``, ...) or ``'sub'``.
+        Node kind: an element kind (``'Se'``, ``'1'``, ``'TF'``, ...; its element
+        class's :attr:`~bondgraph.protocol.Element.drawing_role` is used) or a
+        drawing role (``'source'``, ``'storage'``, ``'dissipative'``,
+        ``'junction'``, ``'backbone'``, ``'sub'``).
     edges : sequence of (tail, head)
         The bonds.
     wrap : int
@@ -76,6 +77,7 @@ def grid_layout(names: Sequence[str], kinds: Mapping[str, str],
     if wrap < 2:
         raise ValueError(f"wrap must be at least 2; got {wrap}")
     order = {n: i for i, n in enumerate(names)}
+    roles = {n: drawing_role(k) for n, k in kinds.items()}
     graph = nx.MultiGraph()
     graph.add_nodes_from(names)
     graph.add_edges_from(edges)
@@ -83,7 +85,7 @@ def grid_layout(names: Sequence[str], kinds: Mapping[str, str],
     cells: dict[str, Cell] = {}
     top = 0
     for comp in comps:
-        local = _Comb(graph.subgraph(comp), kinds, order, edges, wrap).run()
+        local = _Comb(graph.subgraph(comp), roles, order, edges, wrap).run()
         c0 = min(c for c, _ in local.values())
         r0 = min(r for _, r in local.values())
         r1 = max(r for _, r in local.values())
@@ -134,10 +136,10 @@ def _arrange(items: list[_Block]) -> list[int]:
 class _Comb:
     """Layout of one connected component."""
 
-    def __init__(self, graph: nx.MultiGraph, kinds: Mapping[str, str],
+    def __init__(self, graph: nx.MultiGraph, roles: Mapping[str, str],
                  order: Mapping[str, int], edges: Sequence[tuple[str, str]], wrap: int) -> None:
         self.graph = graph
-        self.kinds = kinds
+        self.roles = roles
         self.order = order
         self.directed = [(t, h) for t, h in edges if t in graph and h in graph]
         self.wrap = wrap
@@ -153,16 +155,16 @@ class _Comb:
     def run(self) -> dict[str, Cell]:
         g = self.graph
         nodes = self._sorted(g)
-        if len(nodes) <= 2 and all(self.kinds[n] in ONE_PORTS for n in nodes):
+        if len(nodes) <= 2 and all(self.roles[n] in LEAF_ROLES for n in nodes):
             return {n: (i, 0) for i, n in enumerate(self._orient(nodes))}
-        self.leaf = {n for n in nodes if g.degree(n) <= 1 and self.kinds[n] in ONE_PORTS}
+        self.leaf = {n for n in nodes if g.degree(n) <= 1 and self.roles[n] in LEAF_ROLES}
         backbone = [n for n in nodes if n not in self.leaf]
         simple = nx.Graph(g.subgraph(backbone))
         self.tree = nx.Graph(nx.bfs_tree(simple, backbone[0], sort_neighbors=self._sorted))
         self.tree.add_nodes_from(backbone)
         ext = self.tree.copy()
         for n in self._sorted(self.leaf):
-            if self.kinds[n] in SOURCES:
+            if self.roles[n] in SOURCE_ROLES:
                 ext.add_edge(n, next(iter(g[n])))
         path = self._orient(_longest_path(ext, self._sorted))
         on_path = set(path)
@@ -171,8 +173,8 @@ class _Comb:
         sides: list[tuple[list[_Block], list[_Block]]] = []
         for i, p in enumerate(path):
             leaves = self._leaves(p, on_path)
-            ups = [x for x in leaves if self.kinds[x] in _UP_KINDS]
-            downs = [x for x in leaves if self.kinds[x] not in _UP_KINDS]
+            ups = [x for x in leaves if self.roles[x] in UP_ROLES]
+            downs = [x for x in leaves if self.roles[x] not in UP_ROLES]
             above = [_Block.single(x) for x in ups[:1]]
             below = [_Block.single(x) for x in downs[:1]]
             extra = [_Block.single(x) for x in ups[1:] + downs[1:]]
@@ -191,7 +193,7 @@ class _Comb:
         count = 0
         for j in (i - 1, i + 1):
             if 0 <= j < len(path):
-                count += sum((self.kinds[x] in _UP_KINDS) == up
+                count += sum((self.roles[x] in UP_ROLES) == up
                              for x in self._leaves(path[j], set(path)))
         return 0.5 * count
 
@@ -199,11 +201,11 @@ class _Comb:
         """A side branch rooted at ``v``, growing downward (a tidy tree)."""
         block = _Block.single(v)
         leaves = self._leaves(v, set())
-        ups = [x for x in leaves if self.kinds[x] in _UP_KINDS]
-        downs = [x for x in leaves if self.kinds[x] not in _UP_KINDS]
+        ups = [x for x in leaves if self.roles[x] in UP_ROLES]
+        downs = [x for x in leaves if self.roles[x] not in UP_ROLES]
         beside = (ups + downs)[:2]
         # inertias and capacitors to the right, resistors to the left; a second one opposite
-        first_right = self.kinds[beside[0]] in _UP_KINDS if beside else True
+        first_right = self.roles[beside[0]] in UP_ROLES if beside else True
         for x, right in zip(beside, (first_right, not first_right)):
             block.add(_Block.single(x), 1 if right else -1, 0)
         kids = [self._branch(c, v) for c in self._sorted(self.tree[v]) if c != parent]
@@ -222,8 +224,8 @@ class _Comb:
                     fwd += 1
                 else:
                     bwd += 1
-        if bwd > fwd or (bwd == fwd and self.kinds[path[-1]] in SOURCES
-                         and self.kinds[path[0]] not in SOURCES):
+        if bwd > fwd or (bwd == fwd and self.roles[path[-1]] in SOURCE_ROLES
+                         and self.roles[path[0]] not in SOURCE_ROLES):
             return path[::-1]
         return path
 

@@ -93,7 +93,7 @@ def scene_figure(scene: Scene) -> Figure:
             text(px, py, port, size=NOTE_FONT, color=COLORS["sub"], effects=halo, z=3)
     for lb in scene.labels:
         x, y, w, h = lb.box
-        if lb.kind == "sub":
+        if lb.role == "sub":
             ax.add_patch(FancyBboxPatch((x, y), w, h, boxstyle="round,pad=0,rounding_size=6",
                                         facecolor=COLORS["sub_fill"], edgecolor=COLORS["sub"],
                                         lw=1.5 * pt, zorder=4))
@@ -104,14 +104,14 @@ def scene_figure(scene: Scene) -> Figure:
         else:
             ax.add_patch(Rectangle((x, y), w, h, facecolor="white", edgecolor="none",
                                    alpha=0.85, zorder=4))
-        size, bold = label_font(lb.kind)
+        size, bold = label_font(lb.role)
         text(lb.x, lb.y, lb.text, size=size, color=lb.color, weight="bold" if bold else "normal")
         if lb.note:
             text(*lb.note_at, lb.note, size=NOTE_FONT, color=COLORS["number"], ha="left")
     x0, y0 = scene.legend_at
-    for i, (kind, s) in enumerate(scene.legend):
+    for i, (entry, s) in enumerate(scene.legend):
         y = y0 + 10 + 18 * i
-        if kind == "derivative":
+        if entry == "derivative":
             ax.add_patch(FancyBboxPatch((x0, y - 6), 22, 12, boxstyle="round,pad=0,rounding_size=3",
                                         facecolor=COLORS["derivative_fill"],
                                         edgecolor=COLORS["derivative"], lw=pt, zorder=4))

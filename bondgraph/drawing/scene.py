@@ -38,7 +38,8 @@ from functools import lru_cache
 from typing import Optional
 
 from .layout import Box, grid_layout, overlapping_pairs
-from .source import Diagram, JUNCTIONS
+from ..protocol import drawing_role
+from .source import Diagram
 
 __all__ = ["Label", "BondShape", "Scene", "build_scene", "text_width", "label_font",
            "FONT", "NOTE_FONT", "NUMBER_FONT", "COLORS"]
@@ -89,14 +90,15 @@ def text_width(text: str, size: float, bold: bool = False) -> float:
     return float(w)
 
 
-def label_font(kind: str) -> tuple[float, bool]:
+def label_font(role: str) -> tuple[float, bool]:
     """Font size (px) and boldness of a node's main text.
 
     Parameters
     ----------
-    kind : str
-        The node kind (``'R'``, ``'1'``, ``'sub'``, ...), as in
-        :class:`~bondgraph.drawing.source.Node`.
+    role : str
+        The node's drawing role (``'junction'``, ``'sub'``, ...), as in
+        :class:`~bondgraph.drawing.source.Node`, or an element kind (``'1'``,
+        ``'R'``), which stands for its element class's role.
 
     Returns
     -------
@@ -107,9 +109,10 @@ def label_font(kind: str) -> tuple[float, bool]:
     >>> label_font("1"), label_font("R"), label_font("sub")
     ((15.0, True), (14.0, False), (14.0, True))
     """
-    if kind in JUNCTIONS:
+    role = drawing_role(role)
+    if role == "junction":
         return FONT + 1, True
-    return FONT, kind == "sub"
+    return FONT, role == "sub"
 
 
 Point = tuple[float, float]
@@ -145,6 +148,7 @@ class Label:
     box: Box
     derivative: bool = False
     arbitrary: bool = False
+    role: str = "backbone"
 
     @property
     def note_at(self) -> Point:
@@ -155,7 +159,7 @@ class Label:
     def color(self) -> str:
         if self.derivative:
             return COLORS["derivative"]
-        if self.kind == "sub":
+        if self.role == "sub":
             return COLORS["sub"]
         if self.arbitrary:
             return COLORS["loop"]
@@ -235,7 +239,7 @@ class Scene:
     height: float
     labels: tuple[Label, ...]
     bonds: tuple[BondShape, ...]
-    legend: tuple[tuple[str, str], ...]      # (kind, text); kind 'derivative' or 'loop'
+    legend: tuple[tuple[str, str], ...]      # (entry, text); entry 'derivative' or 'loop'
     legend_at: Point
     title: str
     causal: bool
@@ -252,11 +256,11 @@ class Scene:
         return overlapping_pairs({lb.name: lb.box for lb in self.labels})
 
 
-def _label_size(text: str, note: str, kind: str) -> tuple[float, float, float, float]:
+def _label_size(text: str, note: str, role: str) -> tuple[float, float, float, float]:
     """(text width, left extent, right extent, height) about the main text's centre."""
-    size, bold = label_font(kind)
+    size, bold = label_font(role)
     tw = text_width(text, size, bold)
-    if kind == "sub":
+    if role == "sub":
         half = tw / 2 + PAD + 7
         return tw, half, half, FONT + 2 * PAD + 10
     nw = text_width(note, NOTE_FONT)
@@ -291,9 +295,9 @@ def build_scene(diag: Diagram, *, wrap: int = 14, title: bool = True) -> Scene:
     (['Se:V', 'R:R'], [])
     """
     names = [n.name for n in diag.nodes]
-    kinds = {n.name: n.kind for n in diag.nodes}
-    cells = grid_layout(names, kinds, [(e.tail, e.head) for e in diag.edges], wrap=wrap)
-    sizes = {n.name: _label_size(n.text, n.note, n.kind) for n in diag.nodes}
+    roles = {n.name: n.role for n in diag.nodes}
+    cells = grid_layout(names, roles, [(e.tail, e.head) for e in diag.edges], wrap=wrap)
+    sizes = {n.name: _label_size(n.text, n.note, n.role) for n in diag.nodes}
 
     ncol = max(c for c, _ in cells.values()) + 1
     nrow = max(r for _, r in cells.values()) + 1
@@ -328,7 +332,7 @@ def build_scene(diag: Diagram, *, wrap: int = 14, title: bool = True) -> Scene:
             box = (cx - left, cy - h / 2, left + right, h)
             ty = cy - (NOTE_FONT * 0.45 / 2 if n.note else 0)
             labels.append(Label(n.name, n.kind, n.text, n.note, cx, ty, tw, box,
-                                n.derivative, n.arbitrary))
+                                n.derivative, n.arbitrary, n.role))
         by_name = {lb.name: lb for lb in labels}
         avoid = [lb.box for lb in labels]
         bonds = [_bond_shape(e, by_name[e.tail], by_name[e.head], shift[k], avoid)

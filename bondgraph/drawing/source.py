@@ -30,15 +30,18 @@ from ..errors import BondGraphError
 from ..flatten import FlatGraph, flatten
 from ..graph import BondGraph
 from ..model import Model
+from ..protocol import Element
 
 __all__ = ["DrawingError", "Node", "Edge", "Diagram", "diagram", "Drawable"]
 
 Drawable = Union[BondGraph, AugmentedBondGraph, FlatGraph, Model]
 
-#: element kinds drawn as ``KIND:name``; junctions are drawn as ``0`` / ``1``
-JUNCTIONS = ("0", "1")
-ONE_PORTS = ("Se", "Sf", "I", "C", "R", "Port")
-SOURCES = ("Se", "Sf", "Port")
+#: drawing roles (:attr:`bondgraph.protocol.Element.drawing_role`) that the layout may
+#: draw as leaves of the junction structure; those drawn above it (and right of a
+#: branch); those drawn in line with the main path
+LEAF_ROLES = ("source", "storage", "dissipative")
+UP_ROLES = ("source", "storage")
+SOURCE_ROLES = ("source",)
 
 
 class DrawingError(BondGraphError, ValueError):
@@ -55,9 +58,10 @@ class Node:
         Unique name: the element's path (``motor.Ra``) or the sub-model's name.
     kind : str
         Element kind (``'Se'``, ``'I'``, ``'0'``, ...), or ``'sub'`` for a
-        sub-model drawn as one box.
+        sub-model drawn as one box (written to the SVG, not interpreted).
     text : str
-        The main text: ``'I:La'``, ``'1'``, ``'motor'``.
+        The main text: ``'I:La'``, ``'1'``, ``'motor'`` (the element's
+        :meth:`~bondgraph.protocol.Element.drawing_label`).
     note : str
         Small text next to the main one: a junction's name ('' otherwise).
     derivative : bool
@@ -65,6 +69,9 @@ class Node:
         inside it).
     arbitrary : bool
         An R element whose causality was chosen arbitrarily (algebraic loop).
+    role : str
+        Where the layout puts it: the element's
+        :attr:`~bondgraph.protocol.Element.drawing_role`, or ``'sub'``.
 
     Examples
     --------
@@ -73,7 +80,7 @@ class Node:
     >>> g.add(bg.Se("V"), bg.One("j"), bg.R("R"), bg.I("L"))
     >>> for tail, head in [("V", "j"), ("j", "R"), ("j", "L")]: _ = g.connect(tail, head)
     >>> diagram(g).node("j")
-    Node(name='j', kind='1', text='1', note='j', derivative=False, arbitrary=False)
+    Node(name='j', kind='1', text='1', note='j', derivative=False, arbitrary=False, role='junction')
     """
 
     name: str
@@ -82,6 +89,7 @@ class Node:
     note: str = ""
     derivative: bool = False
     arbitrary: bool = False
+    role: str = "backbone"
 
 
 @dataclass(frozen=True)
@@ -230,20 +238,18 @@ def diagram(obj: Drawable, *, causality: bool = True, expand: bool = True) -> Di
     )
 
 
-def _node(name: str, kind: str, label: str, aug: Optional[AugmentedBondGraph]) -> Node:
-    if kind in JUNCTIONS:
-        text, note = kind, name
-    else:
-        text, note = label, ""
+def _node(el: Element, aug: Optional[AugmentedBondGraph]) -> Node:
+    text, note = el.drawing_label()
     return Node(
-        name=name, kind=kind, text=text, note=note,
-        derivative=aug is not None and name in aug.derivative,
-        arbitrary=aug is not None and name in aug.arbitrary,
+        name=el.name, kind=el.kind, text=text, note=note,
+        derivative=aug is not None and el.name in aug.derivative,
+        arbitrary=aug is not None and el.name in aug.arbitrary,
+        role=el.drawing_role,
     )
 
 
 def _from_flat(flat: FlatGraph, aug: Optional[AugmentedBondGraph]) -> Diagram:
-    nodes = tuple(_node(el.name, el.kind, el.label(), aug) for el in flat.elements)
+    nodes = tuple(_node(el, aug) for el in flat.elements)
     in_loop: set[int] = set()
     if aug is not None:
         for lp in aug.loops:
@@ -267,13 +273,12 @@ def _boxed(graph: BondGraph, causality: bool) -> Diagram:
         flat_number = dict(aug.flat.top_bonds)
     subs = {s.name for s in graph.submodels}
     nodes = []
-    for kind, item in _element_then_sub_order(graph):
-        if kind == "sub":
+    for what, item in _element_then_sub_order(graph):
+        if what == "sub":
             inside = aug is not None and any(n.startswith(item + ".") for n in aug.derivative)
-            nodes.append(Node(item, "sub", item, derivative=inside))
+            nodes.append(Node(item, "sub", item, derivative=inside, role="sub"))
         else:
-            el = graph[item]
-            nodes.append(_node(el.name, el.kind, el.label(), aug))
+            nodes.append(_node(graph[item], aug))
     in_loop: set[int] = set()
     if aug is not None:
         for lp in aug.loops:

@@ -94,7 +94,7 @@ def _label(lb: Label) -> list[str]:
     data = _attrs(class_="element", data_name=lb.name, data_kind=lb.kind,
                   data_causality="derivative" if lb.derivative else None)
     out = [f"<g {data}>"]
-    if lb.kind == "sub":
+    if lb.role == "sub":
         style = f'fill="{COLORS["sub_fill"]}" stroke="{COLORS["sub"]}" stroke-width="1.5" rx="6"'
     elif lb.derivative:
         style = (f'fill="{COLORS["derivative_fill"]}" stroke="{COLORS["derivative"]}" '
@@ -103,7 +103,7 @@ def _label(lb: Label) -> list[str]:
         style = 'fill="white" fill-opacity="0.85" stroke="none"'
     box = _attrs(class_="label-box", x=float(x), y=float(y), width=float(w), height=float(h))
     out.append(f"<rect {box} {style}/>")
-    size, bold = label_font(lb.kind)
+    size, bold = label_font(lb.role)
     out.append(_text(lb.x, lb.y, lb.text, size=size, cls="label", fill=lb.color,
                      weight="bold" if bold else "normal"))
     if lb.note:
@@ -158,9 +158,9 @@ def scene_to_svg(scene: Scene) -> str:
     if scene.legend:
         out.append('<g class="legend">')
         x0, y0 = scene.legend_at
-        for i, (kind, text) in enumerate(scene.legend):
+        for i, (entry, text) in enumerate(scene.legend):
             y = y0 + 10 + 18 * i
-            if kind == "derivative":
+            if entry == "derivative":
                 out.append(f'<rect x="{_f(x0)}" y="{_f(y - 6)}" width="22" height="12" rx="3" '
                            f'fill="{COLORS["derivative_fill"]}" stroke="{COLORS["derivative"]}"/>')
             else:
