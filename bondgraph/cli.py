@@ -80,47 +80,15 @@ def load_params(path: "str | os.PathLike[str]") -> dict[str, float]:
     ...     load_params(p)
     {'J': 0.01, 'motor.Ra': 1.5}
     """
-    from .export import checked_path, decode_json
+    from .files import read_table
 
-    name = checked_path(path, "params file", ParamsFileError)
-    suffix = Path(name).suffix.lower()
-    if suffix not in (".json", ".toml"):
-        raise ParamsFileError(f"params file '{name}' must be .json or .toml")
-    try:
-        raw = Path(name).read_bytes()
-    except FileNotFoundError:
-        raise ParamsFileError(f"params file '{name}' does not exist") from None
-    except OSError as exc:
-        raise ParamsFileError(f"cannot read params file '{name}': {exc.strerror or exc}") from None
+    name, data = read_table(path, "params file", ParamsFileError)
     what = f"params file '{name}'"
-    if suffix == ".json":
-        data = decode_json(raw, what, ParamsFileError)
-    else:
-        try:
-            data = _toml().loads(raw.decode("utf-8"))
-        except UnicodeDecodeError as exc:
-            raise ParamsFileError(f"{what} is not UTF-8 text: {exc}") from None
-        except RecursionError:
-            raise ParamsFileError(f"{what} is nested too deeply to be read") from None
-        except ValueError as exc:  # tomllib.TOMLDecodeError, also for a repeated key
-            raise ParamsFileError(f"{what} is not valid TOML: {exc}") from None
     if not isinstance(data, dict):
         raise ParamsFileError(
             f"{what} must hold a mapping of parameter names to numbers; "
             f"got a {type(data).__name__}")
     return _flatten(data, name)
-
-
-def _toml():
-    try:
-        import tomllib
-    except ModuleNotFoundError:  # Python 3.10
-        try:
-            import tomli as tomllib  # type: ignore[no-redef]
-        except ModuleNotFoundError:
-            raise ParamsFileError("TOML params files need Python 3.11+ or the 'tomli' package; "
-                                  "use a .json file instead") from None
-    return tomllib
 
 
 def _flatten(data: Mapping, path: str) -> dict[str, float]:

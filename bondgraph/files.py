@@ -387,3 +387,49 @@ def _unlink(path: str) -> None:
         pass
     except OSError:  # pragma: no cover - nothing more can be done
         pass
+
+
+def read_table(path: Any, what: str, error: Callable[[str], Exception]) -> tuple[str, Any]:
+    """Read a ``.json`` or ``.toml`` file strictly: ``(path as given, decoded data)``.
+
+    JSON goes through :func:`decode_json` (repeated keys refused, huge
+    integers kept as :class:`HugeInt`), TOML through :mod:`tomllib`.  Every
+    failure is ``error(message)`` naming ``what`` and the path; the caller
+    checks the data's shape.  Used by params files and study files.
+
+    Examples
+    --------
+    >>> read_table("/no/such/params.json", "params file", ValueError)
+    Traceback (most recent call last):
+    ...
+    ValueError: params file '/no/such/params.json' does not exist
+    """
+    name = checked_path(path, what, error)
+    suffix = Path(name).suffix.lower()
+    if suffix not in (".json", ".toml"):
+        raise error(f"{what} '{name}' must be .json or .toml")
+    try:
+        raw = Path(name).read_bytes()
+    except FileNotFoundError:
+        raise error(f"{what} '{name}' does not exist") from None
+    except OSError as exc:
+        raise error(f"cannot read {what} '{name}': {exc.strerror or exc}") from None
+    label = f"{what} '{name}'"
+    if suffix == ".json":
+        return name, decode_json(raw, label, error)
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python 3.10
+        try:
+            import tomli as tomllib  # type: ignore[no-redef]
+        except ModuleNotFoundError:
+            raise error(f"{label}: TOML needs Python 3.11+ or the 'tomli' package; "
+                        "use a .json file instead") from None
+    try:
+        return name, tomllib.loads(raw.decode("utf-8"))
+    except UnicodeDecodeError as exc:
+        raise error(f"{label} is not UTF-8 text: {exc}") from None
+    except RecursionError:
+        raise error(f"{label} is nested too deeply to be read") from None
+    except ValueError as exc:  # tomllib.TOMLDecodeError, also for a repeated key
+        raise error(f"{label} is not valid TOML: {exc}") from None

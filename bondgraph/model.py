@@ -15,12 +15,12 @@ from typing import TYPE_CHECKING, Optional
 import sympy
 
 from ._labels import latex_dot, latex_name, tex
+from ._linear import _derivative_orders, _linear_form, _point, _residual  # noqa: F401
 from .causality import AugmentedBondGraph
 from .errors import NonlinearModelError
-from .signals import LawVariable, Signal
 from .signals import t as T_SYM
 from .statespace import SymbolicStateSpace
-from ._linear import _derivative_orders, _linear_form, _point, _residual  # noqa: F401
+from .values import parameter_symbols
 
 if TYPE_CHECKING:
     from .hamiltonian import PortHamiltonian
@@ -126,11 +126,7 @@ class Model:
         names = {p.name for p in self.parameters} | set(self.declared_parameters)
         elements = self.augmented.flat.elements if self.augmented is not None else ()
         for el in elements:
-            for fld in dataclasses.fields(el):
-                val = getattr(el, fld.name)
-                if isinstance(val, sympy.Basic):
-                    names |= {s.name for s in val.free_symbols
-                              if not isinstance(s, (Signal, LawVariable)) and s != T_SYM}
+            names |= {s.name for s in parameter_symbols(el)}
         return tuple(sorted(names))
 
     @property

@@ -27,7 +27,7 @@ import sympy
 from .errors import BondGraphError, ParameterError
 from .signals import LawVariable
 
-__all__ = ["ParameterLike", "to_expr", "nonzero", "as_expr", "as_matrix"]
+__all__ = ["ParameterLike", "to_expr", "nonzero", "as_expr", "as_matrix", "parameter_symbols"]
 
 ParameterLike = Union[None, numbers.Real, str, sympy.Expr]
 
@@ -182,3 +182,27 @@ def nonzero(value: Optional[sympy.Expr], *, owner: str, what: str) -> Optional[s
             "join its bonds with a junction instead"
         )
     return value
+
+
+def parameter_symbols(element: object) -> set:
+    """The parameter symbols an element's fields hold (not signals, law variables or time).
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> sorted(s.name for s in parameter_symbols(bg.R("d", law=sympy.Symbol("c") * bg.f**3)))
+    ['c']
+    """
+    import dataclasses
+
+    from .signals import Signal
+    from .signals import t as time
+
+    out: set = set()
+    for fld in dataclasses.fields(element):  # type: ignore[arg-type]
+        val = getattr(element, fld.name)
+        if isinstance(val, sympy.Basic):
+            out |= {s for s in val.free_symbols
+                    if not isinstance(s, (Signal, LawVariable)) and s != time}
+    return out
+

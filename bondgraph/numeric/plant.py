@@ -43,7 +43,6 @@ array([[-1., -1.],
 from __future__ import annotations
 
 import dataclasses
-
 from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, Mapping, Optional, Sequence, Union
@@ -51,13 +50,19 @@ from typing import TYPE_CHECKING, Any, Mapping, Optional, Sequence, Union
 import numpy as np
 import sympy
 
+from .._labels import control_labels
 from ..model import Model
+from ..parameters import real_value
 from ..statespace import SignalCounts, check_matrix_shape, expected_shape
+from ..values import parameter_symbols
 from ._compile import CompiledFunction, placeholders, user_functions
 from ._linalg import freeze, frequency_response, sorted_eigenvalues
-from .._labels import control_labels
-from ..parameters import real_value
-from .errors import ImproperPlantError, NotPicklableError, NumericError, ParameterValueError
+from .errors import (
+    ImproperPlantError,
+    NotPicklableError,
+    NumericError,
+    ParameterValueError,
+)
 from .parameters import ParameterValues, resolve_batch, resolve_parameters
 
 if TYPE_CHECKING:  # imported lazily at run time
@@ -571,13 +576,9 @@ def _elements_using(model: Model, names: Sequence[str]) -> str:
     """``"I:La (La = 0)"`` for the elements whose parameters use one of ``names``."""
     found = []
     for el in (model.augmented.flat.elements if model.augmented is not None else ()):
-        for fld in dataclasses.fields(el):
-            val = getattr(el, fld.name)
-            if isinstance(val, sympy.Basic):
-                hit = sorted({sym.name for sym in val.free_symbols} & set(names))
-                if hit:
-                    found.append(f"{el.label()} ({', '.join(f'{h} = 0' for h in hit)})")
-                    break
+        hit = sorted({sym.name for sym in parameter_symbols(el)} & set(names))
+        if hit:
+            found.append(f"{el.label()} ({', '.join(f'{h} = 0' for h in hit)})")
     return ", ".join(found)
 
 

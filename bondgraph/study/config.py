@@ -43,11 +43,10 @@ import math
 import numbers
 import os
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import Any, Mapping
 
 from ..errors import BondGraphError
-from ..files import checked_path, decode_json, number_problem
+from ..files import number_problem, read_table
 
 __all__ = ["StudyFile", "StudyFileError", "load_study", "OPTIONS"]
 
@@ -72,32 +71,8 @@ class StudyFile:
 
 
 def _read(path: "str | os.PathLike[str]") -> tuple[str, str, Mapping]:
-    name = checked_path(path, "study file", StudyFileError)
-    suffix = Path(name).suffix.lower()
-    if suffix not in (".toml", ".json"):
-        raise StudyFileError(f"study file '{name}' must be .toml or .json")
-    try:
-        raw = Path(name).read_bytes()
-    except FileNotFoundError:
-        raise StudyFileError(f"study file '{name}' does not exist") from None
-    except OSError as exc:
-        raise StudyFileError(f"cannot read study file '{name}': {exc.strerror or exc}") from None
+    name, data = read_table(path, "study file", StudyFileError)
     what = f"study file '{name}'"
-    if suffix == ".json":
-        data = decode_json(raw, what, StudyFileError)
-    else:
-        try:
-            import tomllib
-        except ModuleNotFoundError:          # Python 3.10
-            import tomli as tomllib          # type: ignore[no-redef]
-        try:
-            data = tomllib.loads(raw.decode("utf-8"))
-        except UnicodeDecodeError as exc:
-            raise StudyFileError(f"{what} is not UTF-8 text: {exc}") from None
-        except RecursionError:
-            raise StudyFileError(f"{what} is nested too deeply to be read") from None
-        except ValueError as exc:
-            raise StudyFileError(f"{what} is not valid TOML: {exc}") from None
     if not isinstance(data, dict):
         raise StudyFileError(f"{what} must hold a table; got a {type(data).__name__}")
     return name, what, data
