@@ -142,10 +142,6 @@ class AugmentedBondGraph:
         b = self.flat.bond(number)
         return (b.head == element) == self.stroke_at_head[number - 1]
 
-    def _repr_svg_(self):
-        from .drawing import repr_svg
-        return repr_svg(self)
-
     def __str__(self) -> str:
         lines = [f"augmented bond graph {self.name!r}"]
         lines += [f"  {b}" for b in self.bonds]

@@ -208,10 +208,6 @@ class BondGraph:
     def __iter__(self) -> Iterator[Element]:
         return iter(self._elements.values())
 
-    def _repr_svg_(self):
-        from .drawing import repr_svg
-        return repr_svg(self)
-
     def __repr__(self) -> str:
         return (f"BondGraph({self.name!r}: {len(self._elements)} elements, "
                 f"{len(self._subgraphs)} sub-models, {len(self._bonds)} bonds)")

@@ -354,10 +354,6 @@ class Model:
     def _repr_latex_(self) -> str:
         return _equations_latex(self)
 
-    def _repr_svg_(self):
-        from .drawing import repr_svg
-        return repr_svg(self.augmented)
-
     def equilibrium(self, values, inputs=None, *, guess=None, fixed=None, tol: float = 1e-10,
                     exact: bool = True) -> "Equilibrium":
         """Operating point ``f(x0, u0) = 0`` at numeric parameter values (trim).

@@ -455,3 +455,57 @@ def test_repr_svg_falls_back_instead_of_raising():
     assert 'data-causal="0"' in svg and "Sf:a" in svg
     assert "Port:shaft" in repr_svg(motor())       # a sub-model alone, open port
     assert repr_svg(dc_motor()) == draw(dc_motor())
+
+
+# ---------------------------------------------------------------- Jupyter displays (issue 13 item 6)
+CORE_MODULES = ("graph.py", "causality.py", "model.py")
+
+
+def _imported_modules(path):
+    """Every module a source file imports (absolute names; relative ones as '.name')."""
+    import ast
+
+    names = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            names.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            base = "." * node.level + (node.module or "")
+            names.add(base)
+            names.update(f"{base}.{alias.name}" if node.module else base + alias.name
+                         for alias in node.names)
+    return names
+
+
+def test_core_modules_do_not_import_drawing():
+    package = os.path.join(os.path.dirname(bg.__file__))
+    from pathlib import Path
+
+    for name in CORE_MODULES:
+        imported = _imported_modules(Path(package, name))
+        bad = sorted(m for m in imported if "drawing" in m.split("."))
+        assert bad == [], f"{name} imports {bad}"
+
+
+def test_import_bondgraph_leaves_matplotlib_unloaded():
+    import subprocess
+    import sys
+
+    code = ("import sys, bondgraph\n"
+            "print('matplotlib' in sys.modules, 'bondgraph.drawing' in sys.modules)")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["False", "True"]
+
+
+def test_displays_are_registered_by_the_drawing_package():
+    import bondgraph.drawing as drawing
+
+    g = dc_motor()
+    model = bg.derive(dc_motor())
+    for obj in (g, bg.assign_causality(g), model):
+        svg = obj._repr_svg_()
+        root = ET.fromstring(svg)
+        assert root.tag == f"{SVG}svg"
+        assert len(root.findall(f".//{SVG}line[@class='stroke']")) == 7  # one per bond
+    for cls in (bg.BondGraph, bg.AugmentedBondGraph, bg.Model):
+        assert cls._repr_svg_ is drawing._repr_svg_

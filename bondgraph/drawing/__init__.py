@@ -1,14 +1,17 @@
-"""Drawings of bond graphs: augmented bond graphs with causal strokes, as SVG or PNG.
+"""Drawings of bond graphs: augmented bond graphs with causal strokes, as SVG, PNG or TikZ.
 
 :func:`draw` lays a graph out from its structure (the longest junction chain
 left to right, one-port elements around their junctions), and draws each
 bond with its half-arrow, its number and its causal stroke.  Storage elements
 in derivative causality are shown in red, algebraic-loop bonds in orange.
-PNG files are rendered with matplotlib from the same geometry.
+PNG files are rendered with matplotlib from the same geometry, and ``.tex``
+files are TikZ pictures (a document pdflatex compiles, or the bare
+``tikzpicture`` for ``\\input``).  Importing this package registers the
+Jupyter display (``_repr_svg_``) of bond graphs and models.
 
 The pipeline, one module each: :mod:`.source` (what to draw) ->
 :mod:`.layout` (grid cells) -> :mod:`.scene` (geometry in px) ->
-:mod:`.svg` / :mod:`.raster` (output); :mod:`.api` holds :func:`draw`.
+:mod:`.svg` / :mod:`.raster` / :mod:`.tikz` (output); :mod:`.api` holds :func:`draw`.
 
 Examples
 --------
@@ -29,6 +32,31 @@ from .layout import boxes_overlap, grid_layout, overlapping_pairs
 from .scene import BondShape, Label, Scene, build_scene
 from .source import Diagram, DrawingError, Edge, Node, diagram
 from .svg import scene_to_svg
+from .tikz import scene_to_tikz
+
+
+def _repr_svg_(self):
+    """SVG of the bond graph for Jupyter (registered by :mod:`bondgraph.drawing`)."""
+    return repr_svg(self)
+
+
+def _register_displays() -> None:
+    """Give the core classes their Jupyter display (``_repr_svg_``).
+
+    The core modules (``graph``, ``causality``, ``model``) do not import the
+    drawing package; importing it (``import bondgraph`` does) registers the
+    display on :class:`~bondgraph.BondGraph`,
+    :class:`~bondgraph.AugmentedBondGraph` and :class:`~bondgraph.Model`.
+    """
+    from ..causality import AugmentedBondGraph
+    from ..graph import BondGraph
+    from ..model import Model
+
+    for cls in (BondGraph, AugmentedBondGraph, Model):
+        cls._repr_svg_ = _repr_svg_
+
+
+_register_displays()
 
 
 def __getattr__(name: str):
@@ -43,5 +71,5 @@ __all__ = [
     "diagram", "Diagram", "Node", "Edge",
     "grid_layout", "boxes_overlap", "overlapping_pairs",
     "build_scene", "Scene", "Label", "BondShape",
-    "scene_to_svg", "scene_figure", "write_png",
+    "scene_to_svg", "scene_to_tikz", "scene_figure", "write_png",
 ]

@@ -1,4 +1,4 @@
-"""``draw()``: a bond graph as SVG text, or an SVG / PNG file.
+"""``draw()``: a bond graph as SVG text, or an SVG / PNG / TikZ (``.tex``) file.
 
 Examples
 --------
@@ -22,16 +22,17 @@ from ..errors import BondGraphError
 from .scene import build_scene
 from .source import Drawable, DrawingError, diagram
 from .svg import scene_to_svg
+from .tikz import scene_to_tikz
 
 __all__ = ["draw", "repr_svg"]
 
-_FORMATS = ("svg", "png")
+_FORMATS = ("svg", "png", "tex")
 
 
 def draw(obj: Drawable, path: Union[str, os.PathLike, None] = None, *,
          fmt: Optional[str] = None, causality: bool = True, expand: bool = True,
-         wrap: int = 14, dpi: float = 150.0) -> str:
-    """Draw a bond graph (augmented with causal strokes) as SVG, optionally to a file.
+         wrap: int = 14, dpi: float = 150.0, standalone: bool = True) -> str:
+    """Draw a bond graph (augmented with causal strokes) as SVG or TikZ, optionally to a file.
 
     Parameters
     ----------
@@ -41,9 +42,11 @@ def draw(obj: Drawable, path: Union[str, os.PathLike, None] = None, *,
         its ``augmented`` graph.
     path : str or path-like, optional
         File to write; the format comes from ``fmt`` or else the suffix
-        (``.svg`` or ``.png``).  The file is replaced atomically.
-    fmt : {'svg', 'png'}, optional
-        Output format of ``path``.
+        (``.svg``, ``.png`` or ``.tex``).  The file is replaced atomically.
+    fmt : {'svg', 'png', 'tex'}, optional
+        Output format of ``path`` (without ``path``: ``'tex'`` returns the
+        TikZ source).  ``tex`` is a TikZ picture in the same layout (see
+        :mod:`bondgraph.drawing.tikz`).
     causality : bool
         Show causal strokes, derivative-causality storage (red) and
         algebraic-loop bonds (orange).
@@ -55,16 +58,23 @@ def draw(obj: Drawable, path: Union[str, os.PathLike, None] = None, *,
         Longest run of the main chain on one row before it snakes back.
     dpi : float
         PNG resolution (100 = one pixel per SVG unit).
+    standalone : bool
+        TikZ only: True writes a document that ``pdflatex`` compiles on its
+        own (``article`` + ``tikz``, the page cropped to the picture); False
+        writes only the ``tikzpicture``, for ``\\input`` into a document that
+        loads ``tikz``.
 
     Returns
     -------
     str
-        The SVG text (also when a PNG is written).
+        The TikZ source for the ``tex`` format, else the SVG text (also when
+        a PNG is written).
 
     Raises
     ------
     DrawingError
-        For an unknown format or suffix, or ``expand=False`` on a flattened graph.
+        For an unknown format or suffix, ``expand=False`` on a flattened graph,
+        or (TikZ) a name LaTeX cannot typeset.
     CausalityConflictError
         When causality cannot be assigned (draw with ``causality=False``).
 
@@ -83,6 +93,9 @@ def draw(obj: Drawable, path: Union[str, os.PathLike, None] = None, *,
     ...     _ = draw(g, os.path.join(d, "rc.png"))
     ...     os.path.getsize(os.path.join(d, "rc.png")) > 0
     True
+    >>> tikz = draw(g, fmt="tex", standalone=False)
+    >>> tikz.count("\\\\begin{tikzpicture}"), "documentclass" in tikz
+    (1, False)
     """
     form = None
     if path is not None:
@@ -90,6 +103,11 @@ def draw(obj: Drawable, path: Union[str, os.PathLike, None] = None, *,
     elif fmt is not None and fmt.lower() not in _FORMATS:
         raise DrawingError(f"unknown drawing format {fmt!r}; expected one of {', '.join(_FORMATS)}")
     scene = build_scene(diagram(obj, causality=causality, expand=expand), wrap=wrap)
+    if (form or (fmt or "").lower().lstrip(".")) == "tex":
+        tikz = scene_to_tikz(scene, standalone=standalone)
+        if path is not None:
+            _atomic_write(path, lambda f: f.write(tikz.encode("ascii")))
+        return tikz
     svg = scene_to_svg(scene)
     if path is not None:
         if form == "svg":
@@ -143,8 +161,8 @@ def _format(path, fmt: Optional[str]) -> str:
     if suffix not in _FORMATS:
         raise DrawingError(
             f"cannot tell the drawing format of {os.fspath(path)!r} from its suffix "
-            f"{('.' + suffix) if suffix else '(none)'}; use .svg or .png, or pass "
-            "fmt='svg' or fmt='png'"
+            f"{('.' + suffix) if suffix else '(none)'}; use .svg, .png or .tex, or pass "
+            "fmt='svg', fmt='png' or fmt='tex'"
         )
     return suffix
 
