@@ -22,6 +22,7 @@ Matrix([
 from .causality import AugmentedBondGraph, CausalBond, assign_causality
 from .elements import GY, MGY, MTF, TF, C, Element, I, One, Port, R, Se, Sf, Zero
 from .equations import derive
+from .fields import CField, FieldError, ICField, IField, RField
 from .errors import (AlgebraicLoopError, BondGraphError, BondGraphWarning, CausalityConflictError,
                      CausalityError, DuplicateNameError, LawError, ModelStructureError,
                      MissingValueError, NameClashError, NonlinearModelError, OutputError,
@@ -43,6 +44,7 @@ __version__ = "0.1.0"
 __all__ = [
     "BondGraph", "Bond", "FlatGraph", "flatten",
     "Element", "Se", "Sf", "I", "C", "R", "TF", "GY", "MTF", "MGY", "Zero", "One", "Port",
+    "IField", "CField", "ICField", "RField", "FieldError",
     "AugmentedBondGraph", "CausalBond", "assign_causality",
     "derive", "Model", "SymbolicStateSpace",
     "Signal", "effort", "flow", "displacement", "momentum", "p", "q", "e", "f", "t",

@@ -237,9 +237,10 @@ class _Deriver:
     def _integrator(self, sig: Signal) -> sympy.Symbol:
         if sig not in self.integrators:
             base = "x" if sig.variable == "displacement" else "h"
-            name = self.preferred.get(sig) or f"{base}_{sig.target}"
+            stem = f"{base}_{sig.target}" + ("" if sig.port is None else f"_{sig.port}")
+            name = self.preferred.get(sig) or stem
             if name in self.roles:
-                name = f"{base}_{sig.target}"
+                name = stem
             stem, n = name, 2
             while name in self.roles:
                 name, n = f"{stem}_{n}", n + 1
@@ -283,7 +284,9 @@ class _Deriver:
             )
         el = self.flat.element(target)
         inc = self.flat.incidence[target]
-        carried = el.signal_port("flow" if want_flow else "effort")
+        variable = "flow" if want_flow else "effort"
+        carried = (el.signal_port(variable) if sig.port is None else    # a field's port
+                   el.port_signal(variable, sig.port))
         if carried is not None:
             port, signed = carried
             k = inc[port]
@@ -308,14 +311,15 @@ class _Deriver:
             v, sign = self._signal_var(sig)
             return sign * self._inp(v)
         if isinstance(sig.target, str) and sig.target in self.flat.index:
-            i = self.flat.element(sig.target).energy_variable(sig.variable)
+            el = self.flat.element(sig.target)
+            i = (el.energy_variable(sig.variable) if sig.port is None else
+                 el.port_energy_variable(sig.variable, sig.port, self._effort_in(el)))
             if i is not None:
-                if sig.target in self.state_of:
-                    return self.state_of[sig.target][i]
-                if sig.target in self.stored_sym:
-                    # a storage element in derivative causality: its momentum or
-                    # displacement is an algebraic function (p = I*f, q = C*e), not a state
-                    return self.stored_sym[sig.target][i]
+                # its states, then (derivative causality) its stored quantities: algebraic
+                # functions (p = I*f, q = C*e), not states
+                held = self.state_of.get(sig.target, ()) + self.stored_sym.get(sig.target, ())
+                if i < len(held):
+                    return held[i]
         self._signal_var(sig)  # validate the target
         return self._integrator(sig)
 
@@ -497,7 +501,7 @@ class _Deriver:
         done = 0
         while done < len(self.integrators):
             sig = list(self.integrators)[done]
-            base = Signal("flow" if sig.variable == "displacement" else "effort", sig.target)
+            base = sig.of("flow" if sig.variable == "displacement" else "effort")
             raw.append(self._signal_value(base))
             done += 1
         # unknowns of algebraic loops

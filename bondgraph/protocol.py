@@ -55,7 +55,21 @@ Variables and constitutive relations (derivation)
       ports from their time derivatives;
     * :meth:`Element.signal_port` and :meth:`Element.energy_variable` -- which
       bond variable or state ``bg.effort(name)``, ``bg.flow(name)``,
-      ``bg.momentum(name)``, ``bg.displacement(name)`` mean.
+      ``bg.momentum(name)``, ``bg.displacement(name)`` mean;
+      :meth:`Element.port_signal` and :meth:`Element.port_energy_variable` the
+      same for one port of a multiport, ``bg.flow(name, port=k)``.
+Energy (the port-Hamiltonian form, :mod:`bondgraph.hamiltonian`)
+    * :meth:`Element.energy_signals` -- the signals of its stored quantities
+      (``bg.momentum(name)`` of an I), in the order of :meth:`state_names` in
+      integral causality; empty for an element that stores no energy;
+    * :meth:`Element.stored_energy` -- its energy from those quantities
+      (``p**2/(2 m)``, ``q^T K q / 2``);
+    * :meth:`Element.hamiltonian_error` -- why it has no constant
+      port-Hamiltonian form (a modulated two-port, a nonlinear R, a valued
+      source), or None;
+    * :meth:`Element.conserves_power` -- False for a lossy two-port;
+    * :meth:`Element.collocated_output` -- for an input, the name and signal
+      of its power-conjugate output (``f_V``, the flow out of an ``Se``).
 Drawing
     :meth:`Element.drawing_label` (text and note) and
     :attr:`Element.drawing_role` (where the layout puts it).
@@ -65,14 +79,16 @@ flow in the bond's power direction; ``local.sign(p)`` is +1 when port ``p``'s
 bond points into the element, -1 otherwise (a one-port's flow *into* it is
 ``sign*f``).
 
-A multiport field (n ports, a matrix or an energy function) is a new class:
-``bonds = (n, n)``; ``causal_choices`` with one :class:`Choice` per port;
-``causal_class`` from all its ports; ``state_names`` for its integral ports
-and ``derivative_ports`` / ``stored_names`` for the others (mixed causality
+A multiport field (n ports, a matrix or an energy function;
+:mod:`bondgraph.fields`) is a class like any other: ``bonds = (n, n)``;
+``causal_choices`` with one :class:`Choice` per port; ``causal_class`` from
+all its ports; ``state_names`` for its integral ports and
+``derivative_ports`` / ``stored_names`` for the others (mixed causality
 included: the outputs of its integral ports may read the inputs of its
 derivative ports); ``output`` / ``state_derivatives`` / ``stored`` /
-``derivative_output`` over its ports.  Nothing in causality or derivation
-changes.
+``derivative_output`` over its ports; ``port_signal`` and
+``port_energy_variable`` for ``bg.flow(name, port=k)``; ``energy_signals``
+and ``stored_energy`` for its energy.
 
 Examples
 --------
@@ -124,7 +140,7 @@ from typing import TYPE_CHECKING, ClassVar, NamedTuple, Optional, Sequence
 
 import sympy
 
-from .errors import ModelStructureError
+from .errors import ModelStructureError, OutputError
 from .signals import Signal
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -433,6 +449,19 @@ class Element:
         or None (then an integrator state is added)."""
         return None
 
+    def port_signal(self, variable: str, port: int) -> Optional[tuple[int, bool]]:
+        """:meth:`signal_port` for ``bg.effort(name, port=k)`` / ``bg.flow(name, port=k)``
+        (``port`` 1-based); only multiport fields have numbered ports."""
+        raise OutputError(f"signal {variable}[{self.name}][{port}]: {self.label()} is not a "
+                          f"multiport field; write bg.{variable}({self.name!r}) without port=, "
+                          "or name a bond number")
+
+    def port_energy_variable(self, variable: str, port: int,
+                             effort_in: Sequence[bool]) -> Optional[int]:
+        """:meth:`energy_variable` for ``bg.momentum(name, port=k)``: the index in the
+        element's states followed by its stored quantities, or None."""
+        return self.port_signal(variable, port) and None
+
     def output(self, local: LocalVariables, port: int) -> sympy.Expr:
         """The constitutive relation: the output variable of ``port``.
 
@@ -457,6 +486,30 @@ class Element:
         :meth:`stored`."""
         raise NotImplementedError(f"{self.label()}: {type(self).__name__} is in derivative "
                                   "causality but does not define derivative_output")
+
+    # ------------------------------------------------------------ energy
+    def energy_signals(self) -> tuple:
+        """Signals of the quantities it stores (``bg.momentum(name)`` of an I), in the
+        order of :meth:`state_names` in integral causality; () if it stores nothing."""
+        return ()
+
+    def stored_energy(self, quantities: Sequence[sympy.Expr]) -> sympy.Expr:
+        """Its stored energy, given the values of :meth:`energy_signals`."""
+        return sympy.Integer(0)
+
+    def hamiltonian_error(self, dependent: bool) -> Optional[str]:
+        """Why the element prevents a constant port-Hamiltonian form (naming it), or None;
+        ``dependent``: it is in derivative causality."""
+        return None
+
+    def conserves_power(self) -> bool:
+        """False for a two-port whose efficiency is not 1."""
+        return True
+
+    def collocated_output(self) -> Optional[tuple[str, sympy.Expr]]:
+        """For an element that introduces an input: the name and signal of the output
+        power-conjugate to it (``('f_V', -bg.flow('V'))`` for an ``Se``)."""
+        return None
 
     # ------------------------------------------------------------ drawing
     def drawing_label(self) -> tuple[str, str]:

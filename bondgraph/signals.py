@@ -60,20 +60,29 @@ class Signal(sympy.Symbol):
     kind : {'effort', 'flow', 'displacement', 'momentum'}
     target : str or int
         Element name (hierarchical, ``"motor.J"``) or bond number.
+    port : int, optional
+        The port (1-based, in the order of its bonds) of a multiport field
+        (:mod:`bondgraph.fields`); None for every other element.
 
     Examples
     --------
     >>> s = Signal("flow", "motor.J")
-    >>> s, s.variable, s.target
-    (flow[motor.J], 'flow', 'motor.J')
+    >>> s, s.variable, s.target, s.port
+    (flow[motor.J], 'flow', 'motor.J', None)
     >>> Signal("effort[3]").target
     3
+    >>> Signal("flow", "M", port=2), Signal("flow[M][2]").port
+    (flow[M][2], 2)
     """
 
-    def __new__(cls, kind: str, target: Target | None = None, **assumptions):
+    def __new__(cls, kind: str, target: Target | None = None, port: int | None = None,
+                **assumptions):
         if target is None:  # reconstruction from the name alone
             kind, _, rest = kind.partition("[")
             rest = rest[:-1]
+            if "][" in rest:
+                rest, _, num = rest.partition("][")
+                port = int(num)
             target = int(rest) if rest.isdigit() else rest
         if kind not in SIGNAL_KINDS:
             raise OutputError(
@@ -85,17 +94,27 @@ class Signal(sympy.Symbol):
             )
         if isinstance(target, str) and not target:
             raise OutputError(f"{kind}() needs a non-empty element name")
-        obj = super().__new__(cls, f"{kind}[{target}]", real=True)
+        if port is not None and (isinstance(port, bool) or not isinstance(port, int) or
+                                 port < 1 or not isinstance(target, str)):
+            raise OutputError(f"{kind}({target!r}, port={port!r}): port must be an integer >= 1 "
+                              "(the port of a multiport field, in the order of its bonds)")
+        tail = "" if port is None else f"[{port}]"
+        obj = super().__new__(cls, f"{kind}[{target}]{tail}", real=True)
         obj.variable = kind
         obj.target = target
+        obj.port = port
         return obj
 
     def __getnewargs_ex__(self):
-        return ((self.variable, self.target), {})
+        return ((self.variable, self.target, self.port), {})
 
     def retarget(self, target: Target) -> "Signal":
-        """The same kind of signal on another target."""
-        return Signal(self.variable, target)
+        """The same kind of signal (and port) on another target."""
+        return Signal(self.variable, target, self.port)
+
+    def of(self, variable: str) -> "Signal":
+        """The signal of another kind on the same target and port."""
+        return Signal(variable, self.target, self.port)
 
 
 class LawVariable(sympy.Symbol):
@@ -123,39 +142,45 @@ class LawVariable(sympy.Symbol):
         return ((self.name,), {})
 
 
-def effort(target: Target) -> Signal:
+def effort(target: Target, port: int | None = None) -> Signal:
     """Effort of an element (its bond) or of bond number ``target``.
 
     Parameters
     ----------
     target : str or int
         Element name (hierarchical, ``"motor.J"``) or bond number.
+    port : int, optional
+        The port of a multiport field (1-based, in the order of its bonds):
+        ``bg.effort("M", port=2)``; a field refuses the signal without it.
 
     Examples
     --------
     >>> effort("Ra")
     effort[Ra]
     """
-    return Signal("effort", target)
+    return Signal("effort", target, port)
 
 
-def flow(target: Target) -> Signal:
+def flow(target: Target, port: int | None = None) -> Signal:
     """Flow of an element, of a 1-junction (its common flow), or of a bond.
 
     Parameters
     ----------
     target : str or int
         Element name (hierarchical, ``"motor.J"``) or bond number.
+    port : int, optional
+        The port of a multiport field (1-based, in the order of its bonds):
+        ``bg.flow("M", port=2)``; a field refuses the signal without it.
 
     Examples
     --------
     >>> flow(4)
     flow[4]
     """
-    return Signal("flow", target)
+    return Signal("flow", target, port)
 
 
-def displacement(target: Target) -> Signal:
+def displacement(target: Target, port: int | None = None) -> Signal:
     """Time integral of the flow: q of a C, or an angle/position of an I.
 
     Adds an integrator state when the displacement is not already a state.
@@ -164,29 +189,35 @@ def displacement(target: Target) -> Signal:
     ----------
     target : str or int
         Element name (hierarchical, ``"motor.J"``) or bond number.
+    port : int, optional
+        The port of a multiport field (1-based, in the order of its bonds):
+        ``bg.displacement("M", port=2)``; a field refuses the signal without it.
 
     Examples
     --------
     >>> displacement("J").variable
     'displacement'
     """
-    return Signal("displacement", target)
+    return Signal("displacement", target, port)
 
 
-def momentum(target: Target) -> Signal:
+def momentum(target: Target, port: int | None = None) -> Signal:
     """Time integral of the effort: p of an I, or an added integrator.
 
     Parameters
     ----------
     target : str or int
         Element name (hierarchical, ``"motor.J"``) or bond number.
+    port : int, optional
+        The port of a multiport field (1-based, in the order of its bonds):
+        ``bg.momentum("M", port=2)``; a field refuses the signal without it.
 
     Examples
     --------
     >>> momentum("La").target
     'La'
     """
-    return Signal("momentum", target)
+    return Signal("momentum", target, port)
 
 
 p = LawVariable("p")

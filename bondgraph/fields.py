@@ -1,0 +1,597 @@
+r"""Multiport fields: :class:`IField`, :class:`CField`, :class:`ICField`, :class:`RField`.
+
+A field is one element with ``n`` ports (``n`` bonds, in the order they are
+connected) whose constitutive law couples the ports: a mass matrix from
+finite elements or a multibody model, a stiffness matrix, a coupled
+resistance, a kinetic or potential energy function.
+
+Conventions
+-----------
+Port ``k`` (1-based) is the ``k``-th bond of the field.  As for one-port
+elements, the law holds for power flowing *into* the field: a bond that
+points away from it flips the sign of its flow.  On each port the field
+stores an *energy variable* ``x_k`` -- a momentum ``p`` on an inertial
+(I-like) port, a displacement ``q`` on a compliant (C-like) port -- with
+``dp_k/dt = e_k`` and ``dq_k/dt = f_k``; its *co-energy variable* ``z_k`` is
+the port's flow (I port) or effort (C port), ``z = grad H(x)``.
+
+* ``IField(name, mass)``: ``p = M f`` (``H = p^T M^-1 p / 2``), or
+  ``energy=T(p_1..p_n)`` with ``f = dT/dp``.
+* ``CField(name, stiffness=K)``: ``e = K q``; ``compliance=C``: ``q = C e``;
+  or ``energy=V(q_1..q_n)`` with ``e = dV/dq``.
+* ``ICField(name, kinds="IIC", matrix=Q)``: ``z = Q x`` with ``x`` the
+  momenta of its I ports and displacements of its C ports in port order,
+  ``Q`` the Hessian of ``H``; or ``energy=H(x)``.
+* ``RField(name, resistance)``: ``e = R f``; or ``law=(e_1(f), ..., e_n(f))``.
+
+With ``energy=`` (or ``law=``) give ``variables=``: the sympy symbols, one
+per port in port order, in which the function is written.
+
+States and names
+----------------
+A port in integral causality (effort in on an I port, flow in on a C port,
+preferred on every port) gives the state ``p_<name>_<k>`` or
+``q_<name>_<k>``: ``p_M_1, p_M_2`` for ``IField("M", ...)``.  Those names
+must not clash with another element's states (an I named ``M_1`` would
+also be ``p_M_1``: derivation refuses the clash).
+
+A port in derivative causality (driven by a flow source, rigidly joined to
+another inertia) keeps its momentum or displacement as an algebraic
+function of the others.  Linear fields are solved symbolically (a Schur
+complement: for ``p = M f`` with ports ``a`` integral and ``b`` driven,
+``f_a = M_aa^-1 (p_a - M_ab f_b)``); a nonlinear law is inverted on those
+ports only, and :class:`FieldError` names the field and its ports when it
+cannot be.  An :class:`RField` takes either causality on each port.
+
+Signals
+-------
+``bg.flow("M")`` is ambiguous for a field and refused; name the port:
+``bg.flow("M", port=1)``, ``bg.effort("K", port=2)``,
+``bg.momentum("M", port=1)`` (the state ``p_M_1``),
+``bg.displacement("K", port=2)`` (``q_K_2``).
+
+Checks
+------
+Matrix size against the bonds (at ``connect`` and when flattened), symmetry
+(symbolically) and positive definiteness (numerically, when the entries are
+numbers; :meth:`StorageField.check_values` at given parameter values) raise
+:class:`FieldError` naming the field and the matrix.
+
+Examples
+--------
+Two masses coupled through their mass matrix, each pushed by a force:
+
+>>> import sympy, bondgraph as bg
+>>> m1, m2, m12 = sympy.symbols("m1 m2 m12", positive=True)
+>>> g = bg.BondGraph("pair")
+>>> g.add(bg.Se("F1"), bg.Se("F2"), bg.IField("M", [[m1, m12], [m12, m2]]))
+>>> _ = g.connect("F1", "M"); _ = g.connect("F2", "M")
+>>> model = bg.derive(g, outputs={"v1": bg.flow("M", port=1)})
+>>> model.state_names, model.rhs
+(('p_M_1', 'p_M_2'), (F1, F2))
+>>> sympy.factor(model.output_exprs[0])
+(-m12*p_M_2 + m2*p_M_1)/(m1*m2 - m12**2)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import ClassVar, Optional, Sequence
+
+import numpy as np
+import sympy
+
+from ._fields_algebra import FieldError, check_definite, field_matrix, inverse, partial_solve, \
+    solve_law
+from .errors import OutputError, ParameterValueError
+from .protocol import (ARBITRARY, DERIVATIVE, INTEGRAL, RESISTIVE, STORAGE, Choice, Element,
+                       LocalVariables)
+from .signals import LawVariable, displacement, momentum
+from .values import to_expr
+
+__all__ = ["FieldError", "StorageField", "IField", "CField", "ICField", "RField"]
+
+
+def _variables(energy, variables, n_hint: Optional[int], *, owner: str, prefixes: Sequence[str],
+               what: str) -> tuple[sympy.Expr, tuple]:
+    """The user's function rewritten in the field's own variables ``p1, q2, ...``."""
+    if variables is None:
+        raise FieldError(f"{owner}: {what}= needs variables=(...): the sympy symbols it is "
+                         "written in, one per port in port order")
+    vs = tuple(variables)
+    if not vs or not all(isinstance(v, sympy.Symbol) for v in vs) or len(set(vs)) != len(vs):
+        raise FieldError(f"{owner}: variables must be distinct sympy symbols, one per port; "
+                         f"got {variables!r}")
+    if n_hint is not None and len(vs) != n_hint:
+        raise FieldError(f"{owner}: {len(vs)} variables for {n_hint} ports")
+    own = tuple(LawVariable(f"{prefixes[k]}{k + 1}") for k in range(len(vs)))
+    return own, vs
+
+
+def _function(value, vs, own, *, owner: str, what: str) -> sympy.Expr:
+    expr = to_expr(value, owner=owner, what=what, law=True)
+    if expr is None:  # pragma: no cover - caller checked
+        raise FieldError(f"{owner}: no {what}")
+    expr = expr.xreplace(dict(zip(vs, own)))
+    from ._fields_algebra import _no_signals
+    _no_signals(expr, owner, what)
+    return expr
+
+
+@dataclass(frozen=True, eq=False)
+class _Field(Element):
+    """A field: ``n`` ports, each a bond; signals need a port."""
+
+    #: one character per port: 'I', 'C' (storage) or 'R'
+    port_kinds: str = field(default="", init=False, repr=False)
+
+    @property
+    def bonds(self) -> tuple[int, Optional[int]]:   # type: ignore[override]
+        n = len(self.port_kinds)
+        return (n, n)
+
+    @property
+    def ports(self) -> int:
+        """Number of ports."""
+        return len(self.port_kinds)
+
+    def signal_port(self, variable: str) -> Optional[tuple[int, bool]]:
+        raise OutputError(
+            f"signal {variable}[{self.name}]: {self.label()} has {self.ports} ports, so its "
+            f"{variable} is ambiguous; name one, e.g. bg.{variable}({self.name!r}, port=1) "
+            f"(ports 1..{self.ports}, in the order of its bonds)")
+
+    def energy_variable(self, variable: str) -> Optional[int]:
+        self.signal_port(variable)     # raises: ambiguous
+        return None                    # pragma: no cover
+
+    def _port(self, variable: str, port: int) -> int:
+        if isinstance(port, bool) or not isinstance(port, int) or not 1 <= port <= self.ports:
+            raise OutputError(f"signal {variable}[{self.name}][{port}]: {self.label()} has ports "
+                              f"1..{self.ports}; got port {port!r}")
+        return port - 1
+
+    def port_signal(self, variable: str, port: int) -> Optional[tuple[int, bool]]:
+        return self._port(variable, port), variable == "flow"
+
+    def drawing_label(self) -> tuple[str, str]:
+        return self.kind, self.name
+
+    def _sides(self, effort_in: Sequence[bool]) -> tuple[list[int], list[int]]:
+        raise NotImplementedError
+
+
+@dataclass(frozen=True, eq=False)
+class StorageField(_Field):
+    """Base of the storage fields: I-like and C-like ports, a quadratic or general energy.
+
+    Attributes
+    ----------
+    matrix : ImmutableMatrix or None
+        The linear law; with ``form == 'hessian'`` ``z = matrix x``, with
+        ``form == 'inverse'`` ``x = matrix z`` (mass or compliance).
+    energy : sympy.Expr or None
+        ``H`` in the field's own variables (:attr:`variables`).
+    """
+
+    matrix: Optional[sympy.ImmutableMatrix] = field(default=None, init=False)
+    form: str = field(default="hessian", init=False, repr=False)
+    #: what the matrix is called in messages ('mass matrix', ...)
+    matrix_name: str = field(default="matrix", init=False, repr=False)
+    energy: Optional[sympy.Expr] = field(default=None, init=False)
+    variables: tuple = field(default=(), init=False, repr=False)
+    drawing_role: ClassVar[str] = "storage"
+
+    def _setup(self, kinds: str, *, matrix=None, form: str = "hessian", what: str = "matrix",
+               energy=None, variables=None) -> None:
+        owner = self.label()
+        given = [x is not None for x in (matrix, energy)]
+        if sum(given) != 1:
+            raise FieldError(f"{owner}: give either a matrix or energy=, "
+                             f"{'not both' if all(given) else 'one of them'}")
+        n = len(kinds) if kinds else None
+        prefixes = kinds.replace("I", "p").replace("C", "q") if kinds else None
+        if matrix is not None:
+            M = field_matrix(matrix, owner=owner, what=what, ports=n)
+            kinds = kinds or self.default_kind * M.rows
+            object.__setattr__(self, "matrix", M)
+            object.__setattr__(self, "form", form)
+            object.__setattr__(self, "matrix_name", what)
+            own = tuple(LawVariable(f"{'p' if k == 'I' else 'q'}{i + 1}")
+                        for i, k in enumerate(kinds))
+        else:
+            size = n if n is not None else len(tuple(variables or ()))
+            kinds = kinds or self.default_kind * size
+            prefixes = kinds.replace("I", "p").replace("C", "q")
+            own, vs = _variables(energy, variables, n, owner=owner, prefixes=prefixes,
+                                 what="energy")
+            H = _function(energy, vs, own, owner=owner, what="energy")
+            object.__setattr__(self, "energy", H)
+            hess = sympy.hessian(H, own)
+            if not hess.free_symbols & set(own):      # quadratic: the linear (exact) path
+                object.__setattr__(self, "matrix", field_matrix(hess, owner=owner,
+                                                                what="Hessian of the energy"))
+                object.__setattr__(self, "matrix_name", "Hessian of the energy")
+        object.__setattr__(self, "port_kinds", kinds)
+        object.__setattr__(self, "variables", own)
+
+    default_kind: ClassVar[str] = "I"
+
+    # ------------------------------------------------------------ causality
+    def _integral(self, port: int) -> bool:
+        """Whether integral causality receives effort on ``port`` (an I port)."""
+        return self.port_kinds[port] == "I"
+
+    def _sides(self, effort_in: Sequence[bool]) -> tuple[list[int], list[int]]:
+        """(integral ports, derivative ports)."""
+        a = [p for p in range(self.ports) if effort_in[p] == self._integral(p)]
+        return a, [p for p in range(self.ports) if p not in a]
+
+    def causal_choices(self, prefer_derivative: bool) -> Sequence[Choice]:
+        how = "derivative" if prefer_derivative else "integral"
+        return tuple(Choice(p, self._integral(p) != prefer_derivative,
+                            f"{how} causality of {self.label()} port {p + 1}", STORAGE)
+                     for p in range(self.ports))
+
+    def causal_class(self, effort_in: Sequence[bool], free: Sequence[bool]) -> Optional[str]:
+        return DERIVATIVE if self._sides(effort_in)[1] else INTEGRAL
+
+    def output_dependencies(self, effort_in: Sequence[bool],
+                            causality: Optional[str]) -> Sequence[Sequence[int]]:
+        dep = tuple(self._sides(effort_in)[1])
+        return tuple(dep for _ in range(self.ports))
+
+    # ------------------------------------------------------------ names
+    def _name(self, port: int) -> str:
+        return f"{'p' if self._integral(port) else 'q'}_{self.name}_{port + 1}"
+
+    def state_names(self, effort_in: Sequence[bool]) -> tuple[str, ...]:
+        return tuple(self._name(p) for p in self._sides(effort_in)[0])
+
+    def derivative_ports(self, effort_in: Sequence[bool]) -> tuple[int, ...]:
+        return tuple(self._sides(effort_in)[1])
+
+    def stored_names(self, effort_in: Sequence[bool]) -> tuple[str, ...]:
+        return tuple(self._name(p) for p in self._sides(effort_in)[1])
+
+    def port_energy_variable(self, variable: str, port: int,
+                             effort_in: Sequence[bool]) -> Optional[int]:
+        """Index in (states + stored quantities) of the port's momentum or displacement."""
+        k = self._port(variable, port)
+        if variable != ("momentum" if self._integral(k) else "displacement"):
+            return None
+        a, b = self._sides(effort_in)
+        return a.index(k) if k in a else len(a) + b.index(k)
+
+    # ------------------------------------------------------------ relations
+    def _solve(self, local: LocalVariables) -> tuple[list, list]:
+        """(x, z) on every port from the states (integral ports) and the inputs (others)."""
+        effort_in = [local.effort_in(p) for p in range(self.ports)]
+        a, b = self._sides(effort_in)
+        x_a = dict(zip(a, local.states))
+        z_b = {p: (local.sign(p) * local.input(p) if self._integral(p) else local.input(p))
+               for p in b}
+        if self.matrix is not None and self.form == "inverse":    # x = A z
+            z, x = partial_solve(self.matrix, z_b, x_a)
+            return x, z
+        if self.matrix is not None:                                # z = Q x
+            return partial_solve(self.matrix, x_a, z_b)
+        own = self.variables
+        grad = [sympy.diff(self.energy, v) for v in own]
+        known = {own[p]: x_a[p] for p in a}
+        x = [x_a.get(p) for p in range(self.ports)]
+        if b:
+            sol = solve_law([grad[p].xreplace(known) - z_b[p] for p in b], [own[p] for p in b],
+                            owner=self.label(), ports=[p + 1 for p in b],
+                            what="derivative causality")
+            for p in b:
+                x[p] = sol[own[p]]
+        full = dict(zip(own, x))
+        z = [z_b[p] if p in z_b else grad[p].xreplace(full) for p in range(self.ports)]
+        return x, z
+
+    def output(self, local: LocalVariables, port: int) -> sympy.Expr:
+        z = self._solve(local)[1][port]
+        return local.sign(port) * z if self._integral(port) else z   # the I port's bond flow
+
+    def state_derivatives(self, local: LocalVariables) -> tuple[sympy.Expr, ...]:
+        a = self._sides([local.effort_in(p) for p in range(self.ports)])[0]
+        return tuple(local.input(p) if self._integral(p) else local.sign(p) * local.input(p)
+                     for p in a)
+
+    def stored(self, local: LocalVariables) -> tuple[sympy.Expr, ...]:
+        b = self._sides([local.effort_in(p) for p in range(self.ports)])[1]
+        x = self._solve(local)[0]
+        return tuple(x[p] for p in b)
+
+    def derivative_output(self, local: LocalVariables, port: int,
+                          rates: Sequence[sympy.Expr]) -> sympy.Expr:
+        b = self._sides([local.effort_in(p) for p in range(self.ports)])[1]
+        rate = rates[b.index(port)]
+        return rate if self._integral(port) else local.sign(port) * rate
+
+    # ------------------------------------------------------------ energy
+    def energy_signals(self) -> tuple:
+        return tuple((momentum if self._integral(p) else displacement)(self.name, port=p + 1)
+                     for p in range(self.ports))
+
+    def stored_energy(self, quantities: Sequence[sympy.Expr]) -> sympy.Expr:
+        x = sympy.Matrix(list(quantities))
+        if self.energy is not None:
+            return self.energy.xreplace(dict(zip(self.variables, quantities)))
+        assert self.matrix is not None
+        Q = inverse(self.matrix) if self.form == "inverse" else self.matrix
+        return sympy.expand((x.T * Q * x)[0, 0] / 2) if not Q.free_symbols else \
+            (x.T * Q * x)[0, 0] / 2
+
+    def hamiltonian_error(self, dependent: bool) -> Optional[str]:
+        if dependent and self.matrix is None:
+            return (f"{self.label()} is in derivative causality with the nonlinear energy "
+                    f"{self.energy}; the reduced form needs a linear (matrix) field there")
+        return None
+
+    def check_values(self, values) -> None:
+        """Check the matrix positive definite at parameter ``values`` (name -> number).
+
+        Raises
+        ------
+        FieldError
+            Naming the field and its matrix.
+        ParameterValueError
+            A parameter of the matrix has no value.
+
+        Examples
+        --------
+        >>> import bondgraph as bg
+        >>> m, c = sympy.symbols("m c", positive=True)
+        >>> bg.IField("M", [[m, c], [c, m]]).check_values({"m": 1.0, "c": 2.0})
+        Traceback (most recent call last):
+        ...
+        bondgraph._fields_algebra.FieldError: IF:M: the mass matrix is not positive definite (smallest eigenvalue -1); ...
+        """
+        if self.matrix is None:
+            return
+        sub = {}
+        for s in self.matrix.free_symbols:
+            key = s.name if s.name in values else s
+            if key not in values:
+                raise ParameterValueError(f"{self.label()}: parameter {s.name!r} of its "
+                                          f"{self.matrix_name} has no value")
+            sub[s] = values[key]
+        arr = np.array(self.matrix.xreplace(sub).tolist(), dtype=float)
+        check_definite(arr, owner=self.label(), what=self.matrix_name)
+
+
+@dataclass(frozen=True, eq=False)
+class IField(StorageField):
+    """Inertance field: ``n`` I-like ports, ``p = M f`` or a kinetic energy ``T(p)``.
+
+    Parameters
+    ----------
+    name : str
+    mass : square matrix, optional
+        The symmetric positive-definite mass (inertance) matrix ``M``,
+        ``n x n`` for ``n`` ports; entries numbers or sympy expressions.
+    energy : sympy expression, optional
+        Kinetic energy ``T(p_1, ..., p_n)`` (instead of ``mass``); ``f = dT/dp``.
+    variables : sequence of sympy.Symbol
+        The momenta ``energy`` is written in, one per port.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> M = bg.IField("M", [[2, 1], [1, 2]])
+    >>> M.ports, M.state_names([True, True]), M.drawing_label()
+    (2, ('p_M_1', 'p_M_2'), ('IF', 'M'))
+    >>> M.stored_energy(sympy.symbols("a b"))
+    a**2/3 - a*b/3 + b**2/3
+    """
+
+    mass: object = None
+    kind: ClassVar[str] = "IF"
+
+    def __init__(self, name: str, mass: object = None, *, energy: object = None,
+                 variables: Optional[Sequence[sympy.Symbol]] = None) -> None:
+        object.__setattr__(self, "name", name)
+        object.__setattr__(self, "mass", mass)
+        self.__post_init__()
+        self._setup("", matrix=mass, form="inverse", what="mass matrix", energy=energy,
+                    variables=variables)
+
+
+@dataclass(frozen=True, eq=False)
+class CField(StorageField):
+    """Capacitance field: ``n`` C-like ports, ``e = K q``, ``q = C e`` or ``e = dV/dq``.
+
+    Parameters
+    ----------
+    name : str
+    stiffness : square matrix, optional
+        Symmetric positive-definite ``K`` (``e = K q``).
+    compliance : square matrix, optional
+        Symmetric positive-definite ``C`` (``q = C e``).
+    energy : sympy expression, optional
+        Potential energy ``V(q_1, ..., q_n)``; ``e = dV/dq``.
+    variables : sequence of sympy.Symbol
+        The displacements ``energy`` is written in, one per port.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> q1, q2 = sympy.symbols("q1 q2")
+    >>> V = bg.CField("V", energy=q1**2 / 2 + q2**2 / 2 + q1**2 * q2**2, variables=(q1, q2))
+    >>> V.ports, V.state_names([False, False]), V.matrix is None
+    (2, ('q_V_1', 'q_V_2'), True)
+    """
+
+    stiffness: object = field(default=None, kw_only=True)
+    compliance: object = field(default=None, kw_only=True)
+    kind: ClassVar[str] = "CF"
+    default_kind: ClassVar[str] = "C"
+
+    def __init__(self, name: str, *, stiffness: object = None, compliance: object = None,
+                 energy: object = None,
+                 variables: Optional[Sequence[sympy.Symbol]] = None) -> None:
+        object.__setattr__(self, "name", name)
+        object.__setattr__(self, "stiffness", stiffness)
+        object.__setattr__(self, "compliance", compliance)
+        self.__post_init__()
+        if stiffness is not None and compliance is not None:
+            raise FieldError(f"{self.label()}: give stiffness= or compliance=, not both")
+        if compliance is not None:
+            self._setup("", matrix=compliance, form="inverse", what="compliance matrix",
+                        energy=energy, variables=variables)
+        else:
+            self._setup("", matrix=stiffness, what="stiffness matrix", energy=energy,
+                        variables=variables)
+
+
+@dataclass(frozen=True, eq=False)
+class ICField(StorageField):
+    """Mixed field: I-like and C-like ports, an energy ``H(p, q)`` or its Hessian.
+
+    Parameters
+    ----------
+    name : str
+    kinds : str
+        One letter per port, ``'I'`` or ``'C'`` (``"IC"``: port 1 inertial,
+        port 2 compliant).
+    matrix : square matrix, optional
+        The Hessian ``Q`` of a quadratic ``H``: ``z = Q x`` with ``x`` the
+        energy variables (``p`` of I ports, ``q`` of C ports) in port order.
+    energy : sympy expression, optional
+        ``H(x_1, ..., x_n)``; flows ``dH/dp``, efforts ``dH/dq``.
+    variables : sequence of sympy.Symbol
+        The energy variables ``energy`` is written in, one per port.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> p, q = sympy.symbols("p q")
+    >>> F = bg.ICField("pend", "IC", energy=p**2 / 2 + q**2 / 2 + p * q / 4, variables=(p, q))
+    >>> F.state_names([True, False]), F.matrix
+    (('p_pend_1', 'q_pend_2'), Matrix([
+    [  1, 1/4],
+    [1/4,   1]]))
+    """
+
+    kind: ClassVar[str] = "ICF"
+
+    def __init__(self, name: str, kinds: str, *, matrix: object = None, energy: object = None,
+                 variables: Optional[Sequence[sympy.Symbol]] = None) -> None:
+        object.__setattr__(self, "name", name)
+        self.__post_init__()
+        if not isinstance(kinds, str) or not kinds or set(kinds) - {"I", "C"}:
+            raise FieldError(f"{self.label()}: kinds must be a string of 'I' and 'C', one "
+                             f"letter per port (e.g. 'IC'); got {kinds!r}")
+        self._setup(kinds, matrix=matrix, what="Hessian", energy=energy, variables=variables)
+
+
+@dataclass(frozen=True, eq=False)
+class RField(_Field):
+    """Resistive field: ``e = R f`` with a resistance matrix, or ``e_k = law_k(f)``.
+
+    Each port takes either causality (arbitrary, as a one-port R); ports that
+    receive effort are solved for their flows (linear: a Schur complement;
+    nonlinear: :class:`FieldError` when the law cannot be inverted there).
+
+    Parameters
+    ----------
+    name : str
+    resistance : square matrix, optional
+        Symmetric, positive semi-definite when numeric.
+    law : sequence of sympy expressions, optional
+        The effort of each port as a function of the flows into the ports.
+    variables : sequence of sympy.Symbol
+        The flows ``law`` is written in, one per port.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> d = bg.RField("D", [[3, 1], [1, 2]])
+    >>> d.ports, d.drawing_label()
+    (2, ('RF', 'D'))
+    """
+
+    resistance: object = None
+    matrix: Optional[sympy.ImmutableMatrix] = field(default=None, init=False)
+    laws: tuple = field(default=(), init=False, repr=False)
+    variables: tuple = field(default=(), init=False, repr=False)
+    kind: ClassVar[str] = "RF"
+    drawing_role: ClassVar[str] = "dissipative"
+
+    def __init__(self, name: str, resistance: object = None, *, law: object = None,
+                 variables: Optional[Sequence[sympy.Symbol]] = None) -> None:
+        object.__setattr__(self, "name", name)
+        object.__setattr__(self, "resistance", resistance)
+        self.__post_init__()
+        owner = self.label()
+        if (resistance is None) == (law is None):
+            raise FieldError(f"{owner}: give either a resistance matrix or law=, "
+                             f"{'not both' if law is not None else 'one of them'}")
+        if resistance is not None:
+            M = field_matrix(resistance, owner=owner, what="resistance matrix", definite=False)
+            object.__setattr__(self, "matrix", M)
+            object.__setattr__(self, "port_kinds", "R" * M.rows)
+            object.__setattr__(self, "variables",
+                               tuple(LawVariable(f"f{k + 1}") for k in range(M.rows)))
+            return
+        laws = tuple(law) if isinstance(law, (list, tuple)) else None
+        if not laws:
+            raise FieldError(f"{owner}: law= must be a sequence of expressions, the effort of "
+                             "each port; got {law!r}")
+        own, vs = _variables(law, variables, len(laws), owner=owner,
+                             prefixes="f" * len(laws), what="law")
+        object.__setattr__(self, "laws", tuple(_function(x, vs, own, owner=owner, what="law")
+                                               for x in laws))
+        object.__setattr__(self, "variables", own)
+        object.__setattr__(self, "port_kinds", "R" * len(laws))
+        jac = sympy.Matrix(self.laws).jacobian(own)
+        if not jac.free_symbols & set(own) and all(e.xreplace({v: 0 for v in own}) == 0
+                                                   for e in self.laws):
+            object.__setattr__(self, "matrix", field_matrix(
+                jac, owner=owner, what="resistance matrix (Jacobian of the law)", definite=False))
+
+    def causal_choices(self, prefer_derivative: bool) -> Sequence[Choice]:
+        return tuple(Choice(p, False, f"arbitrary choice for {self.label()} port {p + 1}",
+                            RESISTIVE) for p in range(self.ports))
+
+    def causal_class(self, effort_in: Sequence[bool], free: Sequence[bool]) -> Optional[str]:
+        return ARBITRARY if any(free) else None
+
+    def output_dependencies(self, effort_in: Sequence[bool],
+                            causality: Optional[str]) -> Sequence[Sequence[int]]:
+        every = tuple(range(self.ports))
+        return tuple(every for _ in every)
+
+    def _solve(self, local: LocalVariables) -> tuple[list, list]:
+        """(flows into the ports, efforts)."""
+        f_in = {p: local.sign(p) * local.input(p) for p in range(self.ports)
+                if not local.effort_in(p)}
+        e_in = {p: local.input(p) for p in range(self.ports) if local.effort_in(p)}
+        if self.matrix is not None:
+            return partial_solve(self.matrix, f_in, e_in)
+        own = self.variables
+        f = [f_in.get(p) for p in range(self.ports)]
+        if e_in:
+            known = {own[p]: v for p, v in f_in.items()}
+            b = sorted(e_in)
+            sol = solve_law([self.laws[p].xreplace(known) - e_in[p] for p in b],
+                            [own[p] for p in b], owner=self.label(), ports=[p + 1 for p in b],
+                            what="effort-in causality (flow out)")
+            for p in b:
+                f[p] = sol[own[p]]
+        full = dict(zip(own, f))
+        return f, [e_in[p] if p in e_in else self.laws[p].xreplace(full)
+                   for p in range(self.ports)]
+
+    def output(self, local: LocalVariables, port: int) -> sympy.Expr:
+        f, e = self._solve(local)
+        return local.sign(port) * f[port] if local.effort_in(port) else e[port]
+
+    def hamiltonian_error(self, dependent: bool) -> Optional[str]:
+        if self.matrix is None:
+            return (f"{self.label()}: the nonlinear law {list(self.laws)} makes the "
+                    "dissipation depend on the state; the port-Hamiltonian form needs a "
+                    "linear RField (a resistance matrix)")
+        return None
