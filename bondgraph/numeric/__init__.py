@@ -4,6 +4,9 @@
   ``A, B, C, D`` lambdified once; ``.plant(values)`` gives a
   :class:`NumericStateSpace` (python-control, scipy, eigenvalues, frequency
   response), ``.batch(arrays)`` a :class:`BatchStateSpace` of many plants.
+* sparse plants (above :data:`SPARSE_THRESHOLD` states, or ``sparse=True``):
+  ``scipy.sparse`` matrices, sparse-LU frequency responses, the eigenvalues
+  nearest a target; see :mod:`bondgraph.numeric.sparse`.
 * :func:`compile_dynamics` / :func:`simulate` / :func:`to_nonlinear_iosys` --
   nonlinear and time-varying models in time.
 
@@ -35,18 +38,20 @@ array([[ -2. , -10. ],
 ['p_La', 'p_J']
 """
 
-from .errors import (ImproperPlantError, NotPicklableError, NumericError, ParameterValueError,
-                     SimulationError)
+from .errors import (DenseConversionError, DenseConversionWarning, ImproperPlantError,
+                     NotPicklableError, NumericError, ParameterValueError, SimulationError)
 from .parameters import parameter_name, resolve_batch, resolve_parameters
-from .plant import (BatchStateSpace, NumericModel, NumericStateSpace, compile_plant,
-                    control_labels, numeric_plant)
+from .plant import (BatchStateSpace, NumericModel, NumericStateSpace, SparseBatchStateSpace,
+                    compile_plant, control_labels, numeric_plant)
+from .sparse import SPARSE_THRESHOLD, Pattern
 from .simulate import (NumericDynamics, SimulationResult, compile_dynamics, simulate,
                        to_nonlinear_iosys)
 
 __all__ = [
-    "NumericStateSpace", "BatchStateSpace", "NumericModel", "compile_plant", "numeric_plant",
+    "NumericStateSpace", "BatchStateSpace", "SparseBatchStateSpace", "Pattern",
+    "SPARSE_THRESHOLD", "NumericModel", "compile_plant", "numeric_plant",
     "NumericDynamics", "compile_dynamics", "SimulationResult", "simulate", "to_nonlinear_iosys",
     "resolve_parameters", "resolve_batch", "parameter_name", "control_labels",
     "NumericError", "ParameterValueError", "SimulationError", "ImproperPlantError",
-    "NotPicklableError",
+    "NotPicklableError", "DenseConversionError", "DenseConversionWarning",
 ]

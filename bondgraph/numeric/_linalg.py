@@ -58,14 +58,10 @@ def frequency_response(A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarra
     if n == 0 or F == 0 or count == 0:
         return out.reshape(lead + (F, p, m))
     jw = 1j * w
-    eye = np.eye(n)
-    chunk = max(1, _CHUNK_ENTRIES // max(1, F * n * n))
-    for start in range(0, count, chunk):
-        sl = slice(start, min(count, start + chunk))
-        M = jw[None, :, None, None] * eye - A2[sl, None]          # (c, F, n, n)
-        rhs = np.broadcast_to(B2[sl, None].astype(complex), M.shape[:-1] + (m,))
-        X = _solve(M, rhs)                                        # (c, F, n, m)
-        out[sl] += C2[sl, None] @ X
+    for sl, fs in _blocks(count, F, n):
+        M = _shifted(A2[sl], jw[fs])                                # (c, f, n, n)
+        rhs = np.broadcast_to(B2[sl, None], M.shape[:-1] + (m,))
+        out[sl, fs] += C2[sl, None] @ _solve(M, rhs)                # (c, f, p, m)
     return out.reshape(lead + (F, p, m))
 
 
@@ -109,14 +105,11 @@ def channel_response(A: np.ndarray, B: np.ndarray, C: np.ndarray, D: np.ndarray,
         return out
     b = B[:, :, input].astype(complex)                                # (P, n)
     c = C[:, output, :]                                               # (P, n)
-    eye = np.eye(n)
-    chunk = max(1, _CHUNK_ENTRIES // max(1, F * n * n))
-    for start in range(0, P, chunk):
-        sl = slice(start, min(P, start + chunk))
-        M = jw[sl, :, None, None] * eye - A[sl, None]                 # (c, F, n, n)
+    for sl, fs in _blocks(P, F, n):
+        M = _shifted(A[sl], jw[sl, fs])                               # (c, f, n, n)
         rhs = np.broadcast_to(b[sl, None, :, None], M.shape[:-1] + (1,))
-        X = _solve(M, rhs)[..., 0]                                    # (c, F, n)
-        out[sl] += np.einsum("pfn,pn->pf", X, c[sl])
+        X = _solve(M, rhs)[..., 0]                                    # (c, f, n)
+        out[sl, fs] += np.einsum("pfn,pn->pf", X, c[sl])
     return out
 
 
@@ -177,6 +170,32 @@ class ChannelResponse:
             out[idx] = channel_response(A[idx], B[idx], C[idx], D[idx], tuple(M[idx] for M in Dd),
                                         w[idx], *self._channel)
         return out
+
+
+def _blocks(count: int, F: int, n: int):
+    """``(plants, frequencies)`` slices whose ``(jw I - A)`` stack holds at most about
+    :data:`_CHUNK_ENTRIES` complex entries (a 999-state plant: a few frequencies at a time)."""
+    per_plant = max(1, F * n * n)
+    if per_plant <= _CHUNK_ENTRIES:
+        step = _CHUNK_ENTRIES // per_plant
+        for start in range(0, count, step):
+            yield slice(start, min(count, start + step)), slice(0, F)
+        return
+    fstep = max(1, _CHUNK_ENTRIES // max(1, n * n))
+    for i in range(count):
+        for f0 in range(0, F, fstep):
+            yield slice(i, i + 1), slice(f0, min(F, f0 + fstep))
+
+
+def _shifted(A: np.ndarray, jw: np.ndarray) -> np.ndarray:
+    """``jw I - A`` for plants ``A (c, n, n)`` and frequencies ``jw (f,)`` or ``(c, f)``:
+    one complex ``(c, f, n, n)`` array, the diagonal added in place (no identity stack)."""
+    c, n = A.shape[0], A.shape[-1]
+    f = jw.shape[-1]
+    M = np.empty((c, f, n, n), dtype=complex)
+    np.negative(A[:, None], out=M)
+    M.reshape(c, f, n * n)[:, :, ::n + 1] += np.broadcast_to(jw, (c, f))[:, :, None]
+    return M
 
 
 def _solve(M: np.ndarray, rhs: np.ndarray) -> np.ndarray:

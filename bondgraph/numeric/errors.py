@@ -15,7 +15,7 @@ import pickle
 from ..errors import BondGraphError, ParameterValueError
 
 __all__ = ["NumericError", "ParameterValueError", "SimulationError", "ImproperPlantError",
-           "NotPicklableError"]
+           "NotPicklableError", "DenseConversionError", "DenseConversionWarning"]
 
 
 class NumericError(BondGraphError, ValueError):
@@ -34,3 +34,13 @@ class ImproperPlantError(NumericError):
 class NotPicklableError(NumericError, pickle.PicklingError):
     """A compiled model cannot be pickled: its equations call a Python function
     (sympy ``implemented_function``) that cannot travel with them."""
+
+
+class DenseConversionError(NumericError, MemoryError):
+    """A sparse plant was asked for a dense form (python-control, scipy, all its
+    eigenvalues) with ``dense="refuse"``; the message gives the memory it would take."""
+
+
+class DenseConversionWarning(UserWarning):
+    """A sparse plant is being made dense (``dense="warn"``, the default): the
+    message gives the memory the dense ``n x n`` arrays take."""

@@ -1,0 +1,149 @@
+"""Benchmark: sparse numeric plants of a chain of N mass-spring-damper cells.
+
+For each N, in a fresh process: causality + derivation (+ ``state_space()``),
+``compile_plant``, ``.plant(values)`` (sparse above the threshold) and a
+100-point frequency response, each timed, and the process's peak resident
+memory (``resource.getrusage(RUSAGE_SELF).ru_maxrss``) after each step.  The
+chain is the one of ``bench/bench_chain.py`` (imported from it).
+
+    python bench/bench_sparse.py                  # N = 1000 5000 20000
+    python bench/bench_sparse.py 1000 5000        # chosen sizes
+    python bench/bench_sparse.py --dense 500      # force dense plants (for comparison)
+    python bench/bench_sparse.py --symengine 1000 5000
+
+``--symengine`` measures ``symengine.Lambdify(..., backend="lambda",
+cse=True)`` against ``sympy.lambdify(..., cse=True)`` (what ``compile_plant``
+uses) on the same expressions: the time of ``compile_plant`` end to end, of
+the lambdify step alone with each backend (symengine's time includes the
+conversion of the sympy expressions), and the largest relative difference of
+the values the two functions compute.  Needs ``pip install symengine``.
+
+Timings on a shared machine are noisy: take the median of a few runs.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import resource
+import subprocess
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+
+def _rss_mb() -> float:
+    # ru_maxrss is in kilobytes on Linux
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
+
+
+def _values(nm) -> dict:
+    # masses 1, dampers 0.1, springs 100 (stiffness), the same at every cell
+    out = {}
+    for name in nm.parameter_names:
+        out[name] = {"m": 1.0, "b": 0.1, "k": 0.01}.get(name[0], 1.0)
+    return out
+
+
+def one(n: int, sparse) -> dict:
+    import numpy as np
+
+    import bondgraph as bg
+    from bench_chain import build
+
+    r: dict = {"N": n}
+    t0 = time.perf_counter()
+    g = build(n)
+    model = bg.derive(bg.assign_causality(g), outputs={"v_last": bg.flow(f"m{n - 1}")})
+    model.state_space()
+    t1 = time.perf_counter()
+    r["derive"], r["rss_derive"] = t1 - t0, _rss_mb()
+    nm = bg.compile_plant(model, sparse=sparse)
+    t2 = time.perf_counter()
+    r["compile"], r["rss_compile"] = t2 - t1, _rss_mb()
+    ss = nm.plant(_values(nm))
+    t3 = time.perf_counter()
+    r["plant"], r["rss_plant"] = t3 - t2, _rss_mb()
+    H = ss.frequency_response(np.logspace(-3, 1, 100))
+    t4 = time.perf_counter()
+    r["response"], r["rss_response"] = t4 - t3, _rss_mb()
+    r["states"], r["sparse"] = ss.nstates, ss.is_sparse
+    r["nnz_A"] = int(ss.A.nnz) if ss.is_sparse else int(np.count_nonzero(ss.A))
+    assert H.shape == (100, 1, 1) and np.isfinite(H).all()
+    return r
+
+
+def symengine_one(n: int) -> dict:
+    import numpy as np
+    import symengine
+
+    import bondgraph as bg
+    from bench_chain import build
+    from bondgraph.numeric._compile import lambdify_cse
+
+    model = bg.derive(bg.assign_causality(build(n)), outputs={"v_last": bg.flow(f"m{n - 1}")})
+    model.state_space()
+    t0 = time.perf_counter()
+    nm = bg.compile_plant(model)
+    t1 = time.perf_counter()
+    fn = nm._fn
+    args, exprs = fn._args, fn._exprs
+    t2 = time.perf_counter()
+    lambdify_cse(args, exprs)
+    t3 = time.perf_counter()
+    se = symengine.Lambdify([symengine.sympify(a) for a in args],
+                            [symengine.sympify(e) for e in exprs], backend="lambda", cse=True)
+    t4 = time.perf_counter()
+    vec = np.array(list(_values(nm).values()))
+    a = np.asarray(fn(*vec), dtype=float)
+    b = np.asarray(se(vec), dtype=float).ravel()
+    rel = float(np.max(np.abs(a - b) / np.maximum(np.abs(a), 1e-300)))
+    total = t1 - t0
+    return {"N": n, "exprs": len(exprs), "compile_plant": total, "sympy_lambdify": t3 - t2,
+            "symengine_lambdify": t4 - t3,
+            "compile_plant_with_symengine": total - (t3 - t2) + (t4 - t3), "max_rel_diff": rel}
+
+
+def _run(args: list[str]) -> dict:
+    out = subprocess.run([sys.executable, __file__, *args], check=True, capture_output=True,
+                         text=True).stdout
+    return json.loads(out.strip().splitlines()[-1])
+
+
+def main(argv: list[str]) -> None:
+    if argv and argv[0] == "--one":
+        sparse = {"auto": None, "dense": False, "sparse": True}[argv[2]]
+        print(json.dumps(one(int(argv[1]), sparse)))
+        return
+    if argv and argv[0] == "--symengine-one":
+        print(json.dumps(symengine_one(int(argv[1]))))
+        return
+    if argv and argv[0] == "--symengine":
+        sizes = [int(a) for a in argv[1:]] or [1000, 5000]
+        print(f"{'N':>6} {'exprs':>6} {'compile_plant s':>16} {'sympy lambdify s':>17} "
+              f"{'symengine s':>12} {'with symengine s':>17} {'speed-up':>9} {'max rel':>9}")
+        for n in sizes:
+            r = _run(["--symengine-one", str(n)])
+            print(f"{n:>6} {r['exprs']:>6} {r['compile_plant']:>16.3f} "
+                  f"{r['sympy_lambdify']:>17.3f} {r['symengine_lambdify']:>12.3f} "
+                  f"{r['compile_plant_with_symengine']:>17.3f} "
+                  f"{r['compile_plant'] / r['compile_plant_with_symengine']:>8.2f}x "
+                  f"{r['max_rel_diff']:>9.1e}")
+        return
+    mode = "auto"
+    if argv and argv[0] in ("--dense", "--sparse"):
+        mode, argv = argv[0][2:], argv[1:]
+    sizes = [int(a) for a in argv] or [1000, 5000, 20000]
+    print(f"{'N':>6} {'states':>6} {'sparse':>6} {'nnz A':>7} {'derive s':>9} {'compile s':>9} "
+          f"{'plant s':>8} {'FRF100 s':>9} {'peak MB':>8} (after derive / compile / plant)")
+    for n in sizes:
+        r = _run(["--one", str(n), mode])
+        print(f"{n:>6} {r['states']:>6} {str(r['sparse']):>6} {r['nnz_A']:>7} "
+              f"{r['derive']:>9.3f} {r['compile']:>9.3f} {r['plant']:>8.3f} "
+              f"{r['response']:>9.3f} {r['rss_response']:>8.0f} "
+              f"({r['rss_derive']:.0f} / {r['rss_compile']:.0f} / {r['rss_plant']:.0f})")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
