@@ -8,10 +8,9 @@ from typing import TYPE_CHECKING, Optional, Sequence
 
 import sympy
 
-from .elements import OnePort, TwoPort
 from .errors import BondGraphWarning, LawError, NonlinearModelError
 from .model import Model
-from .signals import Signal, displacement, effort, flow, momentum
+from .protocol import Element
 from .signals import t as T_SYM
 
 if TYPE_CHECKING:
@@ -37,68 +36,17 @@ def _col(entries: Sequence) -> sympy.ImmutableMatrix:
 
 # ===================================================================== checks
 def _check_elements(model: Model) -> None:
-    """Refuse, naming the element, what has no constant (J, R, G) form."""
+    """Refuse, naming the element, what has no constant (J, R, G) form (each element
+    says why: :meth:`~bondgraph.protocol.Element.hamiltonian_error`)."""
     aug = model.augmented
     for el in aug.flat.elements:
-        label = el.label()
-        if isinstance(el, TwoPort) and el.modulated:
-            raise PortHamiltonianError(
-                f"{label}: a modulated {el.kind[1:]} (modulus {el.modulus}) makes J depend on "
-                "the state or time; the port-Hamiltonian form needs constant-modulus TF and GY")
-        if el.kind in ("Se", "Sf") and getattr(el, "value", None) is not None:
-            value = getattr(el, "value")
-            why = ("a modulated source (feedback written in the graph) is not a port"
-                   if getattr(el, "modulated", False) else
-                   "a prescribed (constant or time-dependent) value is not a port")
-            raise PortHamiltonianError(
-                f"{label}: value={value}: {why}; the port-Hamiltonian form needs every "
-                "source as an input (give the source no value)")
-        if isinstance(el, OnePort):
-            _check_law(el, el.name in aug.derivative)
-
-
-def _check_law(el: OnePort, dependent: bool) -> None:
-    label = el.label()
-    dyn = sorted(str(s) for s in _dynamic(el.law, el.inverse, el.parameter))
-    if dyn:
-        raise PortHamiltonianError(
-            f"{label}: its law uses {', '.join(dyn)} (a modulated element); the "
-            "port-Hamiltonian form needs laws of the element's own variable only")
-    if el.kind == "R" and not _linear_law(el):
-        law = el.law if el.law is not None else el.inverse
-        raise PortHamiltonianError(
-            f"{label}: the nonlinear law {law} makes the dissipation depend on the state; "
-            "the port-Hamiltonian form needs linear R elements (linearize the model first)")
-    if el.kind in ("I", "C") and dependent and not _linear_law(el):
-        raise PortHamiltonianError(
-            f"{label} is in derivative causality with the nonlinear law "
-            f"{el.law if el.law is not None else el.inverse}; the reduced form needs linear "
-            "storage there (make it compliant, or linear)")
-
-
-def _dynamic(*exprs) -> set:
-    out: set = set()
-    for ex in exprs:
-        if isinstance(ex, sympy.Basic):
-            out |= {s for s in ex.free_symbols if isinstance(s, Signal) or s == T_SYM}
-    return out
-
-
-def _linear_law(el: OnePort) -> bool:
-    """Whether the element's law is ``c * own`` (and its inverse ``own / c``)."""
-    if el.parameter is not None:
-        return True
-    for law, var in ((el.law, el.own), (el.inverse, el.inverse_own)):
-        if isinstance(law, sympy.Expr):     # laws are expressions once the element is built
-            if sympy.simplify(sympy.diff(law, var, 2)) != 0 or \
-                    sympy.simplify(law.xreplace({var: 0})) != 0:
-                return False
-    return True
+        why = el.hamiltonian_error(el.name in aug.derivative)
+        if why:
+            raise PortHamiltonianError(why)
 
 
 def _nonconservative(model: Model) -> tuple[str, ...]:
-    return tuple(el.label() for el in model.augmented.flat.elements
-                 if isinstance(el, TwoPort) and el.efficiency != 1)
+    return tuple(el.label() for el in model.augmented.flat.elements if not el.conserves_power())
 
 
 def _input_derivative_error(model: Model, derived: Model) -> None:
@@ -114,110 +62,110 @@ def _input_derivative_error(model: Model, derived: Model) -> None:
 
 
 # ===================================================================== energy
+def _effort_in(model: Model, el: Element) -> list[bool]:
+    aug, bonds = model.augmented, model.augmented.flat.bonds
+    return [aug.stroke_at_head[k] if bonds[k].head == el.name else not aug.stroke_at_head[k]
+            for k in aug.flat.incidence[el.name]]
+
+
 def _storage(model: Model, *, linear_dependent: bool
-             ) -> tuple[list[tuple[sympy.Symbol, OnePort]], list[OnePort]]:
-    """``([(state, element)] in integral causality, [element] in derivative causality)``."""
+             ) -> tuple[list[tuple[tuple[sympy.Symbol, ...], Element]], list[Element]]:
+    """``([(states, element)] in integral causality, [element] with ports in derivative
+    causality)``; every element that :meth:`~bondgraph.protocol.Element.energy_signals`."""
     aug = model.augmented
     by_name = {s.name: s for s in model.states[:model.storage_states]}
-    storage: list[tuple[sympy.Symbol, OnePort]] = []
-    dependent: list[OnePort] = []
+    storage: list[tuple[tuple[sympy.Symbol, ...], Element]] = []
+    dependent: list[Element] = []
+    count = 0
     for el in aug.flat.elements:
-        if not isinstance(el, OnePort) or el.kind not in ("I", "C"):
+        if not el.energy_signals():
             continue
-        dyn = sorted(str(s) for s in _dynamic(el.law, el.inverse, el.parameter))
-        if dyn:
+        is_dependent = el.name in aug.derivative
+        why = el.hamiltonian_error(linear_dependent and is_dependent)
+        if why:
+            if not linear_dependent:       # energy(): only a modulated law matters
+                why = why.split(" (a modulated element)")[0] + \
+                    "; the stored energy of a modulated storage element is not a function " \
+                    "of the state alone"
+            raise PortHamiltonianError(why)
+        names = el.state_names(_effort_in(model, el))
+        missing = [n for n in names if n not in by_name]
+        if missing:
             raise PortHamiltonianError(
-                f"{el.label()}: its law uses {', '.join(dyn)}; the stored energy of a "
-                "modulated storage element is not a function of the state alone")
-        if el.name in aug.derivative:
-            if linear_dependent:
-                _check_law(el, True)
-            dependent.append(el)
-            continue
-        name = ("p_" if el.kind == "I" else "q_") + el.name
-        if name not in by_name:
-            raise PortHamiltonianError(
-                f"{el.label()}: model {model.name!r} has no state {name!r} for it "
+                f"{el.label()}: model {model.name!r} has no state {missing[0]!r} for it "
                 f"(states: {', '.join(model.state_names)})")
-        storage.append((by_name[name], el))
-    if len(storage) != model.storage_states:
+        count += len(names)
+        if is_dependent:
+            dependent.append(el)
+        else:
+            storage.append((tuple(by_name[n] for n in names), el))
+    if count != model.storage_states:
         raise PortHamiltonianError(
             f"model {model.name!r}: {model.storage_states} storage states but "
-            f"{len(storage)} storage elements in integral causality")
+            f"{count} storage ports in integral causality")
     return storage, dependent
 
 
-def _stored_signals(dependent: Sequence[OnePort]) -> dict[str, sympy.Expr]:
-    """Output signals for the momentum / displacement of each dependent element."""
-    return {f"s{i}": (momentum if el.kind == "I" else displacement)(el.name)
-            for i, el in enumerate(dependent)}
+def _stored_signals(dependent: Sequence[Element]) -> dict[str, sympy.Expr]:
+    """Output signals for the stored quantities of each element in derivative causality."""
+    return {f"s{i}_{j}": sig for i, el in enumerate(dependent)
+            for j, sig in enumerate(el.energy_signals())}
 
 
-def _stored(storage, dependent, aux: Optional[Model]) -> list[tuple[sympy.Expr, OnePort]]:
-    """``[(stored quantity, element)]``: the state, or (derivative causality) the
-    momentum or displacement in the states, read from the outputs of ``aux``."""
-    stored: list[tuple[sympy.Expr, OnePort]] = [(sym, el) for sym, el in storage]
+def _stored(storage, dependent, aux: Optional[Model]) -> list[tuple[tuple, Element]]:
+    """``[(stored quantities, element)]``: the states, or (derivative causality) the
+    momenta or displacements in the states, read from the outputs of ``aux``."""
+    stored: list[tuple[tuple, Element]] = [(syms, el) for syms, el in storage]
     if not dependent:
         return stored
     assert aux is not None
     out = dict(zip(aux.output_names, aux.output_exprs))
     bad = set(aux.inputs) | set(aux.input_derivatives) | {T_SYM}
-    for name, el in zip(_stored_signals(dependent), dependent):
-        expr = out[name]
-        if expr.free_symbols & bad:
-            which = ", ".join(sorted(str(s) for s in expr.free_symbols & bad))
-            raise PortHamiltonianError(
-                f"{el.label()} is in derivative causality and its "
-                f"{'momentum' if el.kind == 'I' else 'displacement'} {expr} depends on "
-                f"{which}: a source fixes its {'flow' if el.kind == 'I' else 'effort'}, so its "
-                "stored energy is not a function of the state and the source's power "
-                "needs the input's derivative; such a source is not a port of a "
-                "port-Hamiltonian system")
-        stored.append((expr, el))
+    signals = _stored_signals(dependent)
+    for i, el in enumerate(dependent):
+        values = []
+        for j, sig in enumerate(el.energy_signals()):
+            expr = out[f"s{i}_{j}"]
+            if expr.free_symbols & bad:
+                which = ", ".join(sorted(str(s) for s in expr.free_symbols & bad))
+                raise PortHamiltonianError(
+                    f"{el.label()} is in derivative causality and its {sig.variable} {expr} "
+                    f"depends on {which}: a source fixes its "
+                    f"{'flow' if sig.variable == 'momentum' else 'effort'}, so its stored "
+                    "energy is not a function of the state and the source's power needs the "
+                    "input's derivative; such a source is not a port of a port-Hamiltonian "
+                    "system")
+            values.append(expr)
+        stored.append((tuple(values), el))
+    assert len(signals) == sum(len(v) for v, _ in stored[len(storage):])
     return stored
 
 
-def _energy(stored: Sequence[tuple[sympy.Expr, OnePort]]) -> sympy.Expr:
+def _energy(stored: Sequence[tuple[tuple, Element]]) -> sympy.Expr:
     total = sympy.Integer(0)
-    for quantity, el in stored:
-        total += _element_energy(el, quantity)
+    for quantities, el in stored:
+        try:
+            total += el.stored_energy(quantities)
+        except LawError as exc:
+            raise PortHamiltonianError(str(exc)) from exc
     return total
-
-
-def _element_energy(el: OnePort, quantity: sympy.Expr) -> sympy.Expr:
-    """``int_0^quantity phi(s) ds`` of the element's law ``phi`` (flow of p, effort of q)."""
-    try:
-        law = el.forward()
-    except LawError as exc:    # an inverse-only law that sympy cannot invert
-        raise PortHamiltonianError(
-            f"{el.label()}: its stored energy needs the {el.law_name} law as a function of "
-            f"{el.own}: {exc}") from exc
-    s = sympy.Dummy("s", real=True)
-    phi = law.xreplace({el.own: s})
-    if el.parameter is not None:       # linear: phi = s/parameter, the familiar form
-        return quantity**2 / (2 * el.parameter)
-    H = sympy.integrate(phi, (s, 0, quantity))
-    if H.has(sympy.Integral):
-        raise PortHamiltonianError(
-            f"{el.label()}: sympy cannot integrate its law {law} to the stored energy "
-            f"int_0^{el.own} ({law}) d{el.own}")
-    return H
 
 
 # ===================================================================== coefficients
 def _collocated(model: Model) -> tuple[dict[str, sympy.Expr], tuple[str, ...]]:
-    """Output signals power-conjugate to each input, and their names."""
+    """Output signals power-conjugate to each input, and their names (each source's
+    :meth:`~bondgraph.protocol.Element.collocated_output`)."""
     flat = model.augmented.flat
     ports: dict[str, sympy.Expr] = {}
     names: list[str] = []
     for i, u in enumerate(model.inputs):
         el = flat.element(u.name)
-        if el.kind == "Se":          # flow out of the source: -(flow into it)
-            ports[f"y{i}"] = -flow(el.name)
-            names.append(f"f_{el.name}")
-        else:                        # the effort at a flow source
-            ports[f"y{i}"] = effort(el.name)
-            names.append(f"e_{el.name}")
+        pair = el.collocated_output()
+        if pair is None:
+            raise PortHamiltonianError(f"{el.label()}: it introduces the input {u.name} but "
+                                       "names no power-conjugate output")
+        names.append(pair[0])
+        ports[f"y{i}"] = pair[1]
     return ports, tuple(names)
 
 
@@ -259,13 +207,14 @@ def _input_matrix(exprs, u, x, model: Model, what: str) -> sympy.ImmutableMatrix
 
 
 def _coefficients(exprs, x, hess, model: Model, what: str) -> sympy.ImmutableMatrix:
-    """``(d exprs / dx) diag(1/phi'(x))`` for nonlinear storage in integral causality."""
-    if not hess.is_diagonal():
-        raise PortHamiltonianError(
-            f"model {model.name!r}: nonlinear storage with coupled energy "
-            "(derivative causality) is not supported")
-    M = Matrix(len(exprs), len(x), lambda i, j: sympy.cancel(
-        sympy.diff(exprs[i], x[j]) / hess[j, j]))
+    """``(d exprs / dx) (d^2 H / dx^2)^-1`` for nonlinear storage in integral causality
+    (a diagonal Hessian ``phi_i'(x_i)``, or a coupled one: a nonlinear field)."""
+    jac = Matrix(len(exprs), len(x), lambda i, j: sympy.diff(exprs[i], x[j]))
+    if hess.is_diagonal():
+        M = Matrix(len(exprs), len(x), lambda i, j: sympy.cancel(jac[i, j] / hess[j, j]))
+    else:
+        M = Matrix((jac * _inverse(Matrix(hess), model)).applyfunc(
+            lambda v: sympy.simplify(sympy.cancel(sympy.together(v)))))
     _constant(M, set(x), model, what, "co-energy variables grad H")
     return M
 

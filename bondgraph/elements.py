@@ -60,6 +60,8 @@ from .protocol import (ARBITRARY, DERIVATIVE, INTEGRAL, RESISTIVE, STORAGE, Caus
                        prefix_signals, rename, signals_of)
 from .values import ParameterLike, nonzero, to_expr
 from .signals import LawVariable, Signal, e as E_VAR, f as F_VAR, p as P_VAR, q as Q_VAR, t as T_SYM
+from .signals import (displacement as displacement_signal, effort as effort_signal,
+                      flow as flow_signal, momentum as momentum_signal)
 
 __all__ = [
     "Element",
@@ -203,6 +205,20 @@ class _Source(_OneBond):
     def input_name(self) -> Optional[str]:
         return self.name if self.value is None else None
 
+    def hamiltonian_error(self, dependent: bool) -> Optional[str]:
+        if self.value is None:
+            return None
+        why = ("a modulated source (feedback written in the graph) is not a port"
+               if self.modulated else
+               "a prescribed (constant or time-dependent) value is not a port")
+        return (f"{self.label()}: value={self.value}: {why}; the port-Hamiltonian form needs "
+                "every source as an input (give the source no value)")
+
+    def collocated_output(self) -> Optional[tuple[str, sympy.Expr]]:
+        if self.receives_effort:      # a flow source: the effort on its bond
+            return f"e_{self.name}", effort_signal(self.name)
+        return f"f_{self.name}", -flow_signal(self.name)    # the flow out of an Se
+
     def _given(self, local: LocalVariables) -> sympy.Expr:
         """The input symbol, or the given value with its signals resolved."""
         if self.value is None:
@@ -316,6 +332,26 @@ class OnePort(_OneBond):
                 "direction. Silence with warnings.simplefilter('ignore', "
                 "bondgraph.BondGraphWarning)",)
 
+    def is_linear(self) -> bool:
+        """Whether the law is ``c * own`` (and its inverse ``own / c``)."""
+        if self.parameter is not None:
+            return True
+        for law, var in ((self.law, self.own), (self.inverse, self.inverse_own)):
+            if isinstance(law, sympy.Expr):     # laws are expressions once the element is built
+                if sympy.simplify(sympy.diff(law, var, 2)) != 0 or \
+                        sympy.simplify(law.xreplace({var: 0})) != 0:
+                    return False
+        return True
+
+    def hamiltonian_error(self, dependent: bool) -> Optional[str]:
+        dyn = sorted({str(s) for s in signals_of(self.law, self.inverse, self.parameter)} |
+                     {str(T_SYM) for x in (self.law, self.inverse, self.parameter)
+                      if isinstance(x, sympy.Basic) and x.has(T_SYM)})
+        if dyn:
+            return (f"{self.label()}: its law uses {', '.join(dyn)} (a modulated element); the "
+                    "port-Hamiltonian form needs laws of the element's own variable only")
+        return None
+
     def _modulated(self, local: LocalVariables, expr: sympy.Expr) -> sympy.Expr:
         """``expr`` with the signals of a modulated law resolved."""
         return local.resolve(expr) if self.signals() else expr
@@ -403,6 +439,35 @@ class _Storage(OnePort):
 
     def energy_variable(self, variable: str) -> Optional[int]:
         return 0 if variable == self.energy_signal else None
+
+    def energy_signals(self) -> tuple:
+        return ((momentum_signal if self.energy_signal == "momentum" else
+                 displacement_signal)(self.name),)
+
+    def stored_energy(self, quantities: Sequence[sympy.Expr]) -> sympy.Expr:
+        """``int_0^x phi(s) ds`` of its law ``phi`` (flow of p, effort of q) at ``x``."""
+        (quantity,) = quantities
+        if self.parameter is not None:       # linear: the familiar form
+            return quantity**2 / (2 * self.parameter)
+        try:
+            law = self.forward()
+        except LawError as exc:    # an inverse-only law that sympy cannot invert
+            raise LawError(f"{self.label()}: its stored energy needs the {self.law_name} law as "
+                           f"a function of {self.own}: {exc}") from exc
+        s = sympy.Dummy("s", real=True)
+        H = sympy.integrate(law.xreplace({self.own: s}), (s, 0, quantity))
+        if H.has(sympy.Integral):
+            raise LawError(f"{self.label()}: sympy cannot integrate its law {law} to the stored "
+                           f"energy int_0^{self.own} ({law}) d{self.own}")
+        return H
+
+    def hamiltonian_error(self, dependent: bool) -> Optional[str]:
+        err = super().hamiltonian_error(dependent)
+        if err is None and dependent and not self.is_linear():
+            return (f"{self.label()} is in derivative causality with the nonlinear law "
+                    f"{self.law if self.law is not None else self.inverse}; the reduced form "
+                    "needs linear storage there (make it compliant, or linear)")
+        return err
 
     def _signed(self, local: LocalVariables, x: sympy.Expr, is_flow: bool) -> sympy.Expr:
         return local.sign(0) * x if is_flow else x
@@ -552,6 +617,15 @@ class R(OnePort):
     def output_dependencies(self, effort_in: Sequence[bool],
                             causality: Optional[str]) -> Sequence[Sequence[int]]:
         return ((0,),)
+
+    def hamiltonian_error(self, dependent: bool) -> Optional[str]:
+        err = super().hamiltonian_error(dependent)
+        if err is None and not self.is_linear():
+            law = self.law if self.law is not None else self.inverse
+            return (f"{self.label()}: the nonlinear law {law} makes the dissipation depend on "
+                    "the state; the port-Hamiltonian form needs linear R elements (linearize "
+                    "the model first)")
+        return err
 
     def output(self, local: LocalVariables, port: int) -> sympy.Expr:
         s, x = local.sign(0), local.input(0)

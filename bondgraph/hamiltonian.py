@@ -114,11 +114,10 @@ from ._labels import latex_name, tex
 from .errors import NonlinearModelError
 from .model import Model
 from .parameters import ParameterValues, exact_value, match_values, real_value
-from ._hamiltonian_parts import (PortHamiltonianError, _check_elements, _col,  # noqa: F401
+from ._hamiltonian_parts import (PortHamiltonianError, _check_elements, _col,
                                  _collocated, _energy, _input_derivative_error, _input_matrix,
-                                 _coefficients, _constant, _inverse, _cancel, _nonconservative,
-                                 _rederive, _storage, _stored, _verify, _element_energy,
-                                 _stored_signals, _linear_law, _dynamic, _check_law)
+                                 _coefficients, _inverse, _cancel, _nonconservative,
+                                 _rederive, _storage, _stored, _verify, _stored_signals)
 
 __all__ = ["PortHamiltonian", "PortHamiltonianError", "port_hamiltonian", "energy"]
 
@@ -441,7 +440,7 @@ def port_hamiltonian(model: Model) -> PortHamiltonian:
     ports, names = _collocated(model)
     aux = _rederive(model, {**ports, **_stored_signals(dependent)})
     H = _energy(_stored(storage, dependent, aux))
-    x = tuple(sym for sym, _ in storage)
+    x = tuple(model.states[:model.storage_states])
     u = tuple(model.inputs)
     grad = tuple(sympy.diff(H, xi) for xi in x)
     if dependent:                      # effective combinations: one factored expression each

@@ -99,6 +99,16 @@ class TwoPort(Element):
     def signals(self) -> frozenset:
         return signals_of(self.modulus)
 
+    def hamiltonian_error(self, dependent: bool) -> Optional[str]:
+        if self.modulated:
+            return (f"{self.label()}: a modulated {self.kind[1:]} (modulus {self.modulus}) makes "
+                    "J depend on the state or time; the port-Hamiltonian form needs "
+                    "constant-modulus TF and GY")
+        return None
+
+    def conserves_power(self) -> bool:
+        return self.efficiency == 1
+
     # the protocol: port 1 is the bond into the element, port 2 the bond out
     #: a gyrator (GY, MGY) turns flow into effort; a transformer passes effort through
     gyrating: ClassVar[bool] = False
