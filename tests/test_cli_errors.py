@@ -211,7 +211,7 @@ def test_output_may_not_replace_an_input(tmp_path, capsys):
 
 
 def test_output_suffix_checked_before_any_work(tmp_path, outdir, capsys, monkeypatch):
-    monkeypatch.setattr(cli, "_load", lambda path: pytest.fail("the model was loaded"))
+    monkeypatch.setattr(cli._common, "_load", lambda path: pytest.fail("the model was loaded"))
     assert f"C output '{outdir / 'm.txt'}' must end in .c" in failed(
         capsys, "export", MOTOR, "-f", "c", "-o", outdir / "m.txt")
     assert "Python output" in failed(capsys, "export", MOTOR, "-f", "py", "-o", outdir / "m.txt")
@@ -355,7 +355,7 @@ def test_usage_errors_exit_2(outdir, capsys):
 def test_unexpected_exception_is_reported_without_traceback(capsys, monkeypatch):
     def boom(*args, **kwargs):
         raise RuntimeError("something inside broke")
-    monkeypatch.setattr(cli, "_load", boom)
+    monkeypatch.setattr(cli._common, "_load", boom)
     err = failed(capsys, "equations", MOTOR)
     assert err == f"error: model file '{MOTOR}': RuntimeError: something inside broke\n"
 
@@ -368,7 +368,7 @@ def test_errors_name_the_model_file_when_nothing_else(capsys):
 def test_broken_pipe_exits_1(capsys, monkeypatch):
     def closed(*args, **kwargs):
         raise BrokenPipeError(32, "Broken pipe")
-    monkeypatch.setattr(cli, "_cmd_equations", closed)      # build_parser looks it up when called
+    monkeypatch.setattr(cli._parser, "cmd_equations", closed)   # build_parser looks it up when called
     assert "standard output was closed" in failed(capsys, "equations", MOTOR)
 
 

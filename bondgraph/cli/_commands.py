@@ -1,0 +1,217 @@
+"""The commands ``equations``, ``tf``, ``export`` and ``draw`` of the command line.
+
+Examples
+--------
+>>> sorted(NUMERIC_EXPORTS)
+['json', 'mat', 'npz']
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+from pathlib import Path
+
+from .._labels import latex_dot, latex_name, tex
+from ..errors import NonlinearModelError
+from ..export import EXPORT_FORMATS
+from . import _common
+from . import _operating as _op
+from ._common import CLIError, UsageError, _check_signal, _given, _only, _refuse_overwriting_inputs, _values
+
+__all__ = ["cmd_equations", "cmd_tf", "cmd_export", "cmd_draw", "NUMERIC_EXPORTS",
+           "DRAW_FORMATS"]
+
+#: export formats that write a numeric plant (the ones an operating point applies to)
+NUMERIC_EXPORTS = ("mat", "npz", "json")
+
+#: drawing formats of ``bondgraph draw`` (``tex``: TikZ)
+DRAW_FORMATS = ("svg", "png", "tex")
+
+
+def _needs_point(exc: NonlinearModelError) -> CLIError:
+    """A nonlinear model's error, with the options that give an operating point."""
+    return CLIError(f"{exc}; {_op.HINT}")
+
+
+def _linear(args) -> bool:
+    return bool(getattr(args, "trim", False) or getattr(args, "operating_point", None))
+
+
+def _point_file(args):
+    """The operating-point file read before the model (a bad file fails fast), or None."""
+    path = getattr(args, "operating_point", None)
+    return None if path is None else _op.read_operating_point(path)
+
+
+# --------------------------------------------------------------------------- equations
+def cmd_equations(args) -> None:
+    """``bondgraph equations``: states, inputs, outputs, parameters and equations."""
+    defn, model = _common._load(args.model)
+    out = [f"model {model.name!r}" + (f": {defn.description}" if defn.description else "")]
+    for title, names in (("states", model.state_names), ("inputs", model.input_names),
+                         ("outputs", model.output_names)):
+        out.append(f"{title} ({len(names)}): {', '.join(names) or '-'}")
+    params = [f"{p.name} = {defn.parameters[p.name]:g}" if p.name in defn.parameters else p.name
+              for p in model.parameters]
+    out.append(f"parameters ({len(params)}): {', '.join(params) or '-'}")
+    out.append("")
+    if args.latex:
+        # the one LaTeX naming helper of the package (bondgraph._labels): \dot{p}_{La}
+        lines = [f"{latex_dot(s.name)} &= {tex(r)}" for s, r in zip(model.states, model.rhs)]
+        lines += [f"{latex_name(n)} &= {tex(g)}" for n, g in zip(model.output_names, model.output_exprs)]
+        out += ["\\begin{aligned}", " \\\\\n".join(lines), "\\end{aligned}"]
+    else:
+        out += [f"d{s.name}/dt = {r}" for s, r in zip(model.states, model.rhs)]
+        out += [f"{n} = {g}" for n, g in zip(model.output_names, model.output_exprs)]
+    print("\n".join(out))
+
+
+# --------------------------------------------------------------------------- tf
+def cmd_tf(args) -> None:
+    """``bondgraph tf``: one transfer function, symbolic or numeric, at an operating point if asked."""
+    import sympy
+
+    point = _point_file(args)
+    given = _given(args)
+    defn, model = _common._load(args.model)
+    values = _values(defn, model, args.params, given, complete=True) if args.numeric else None
+    if _linear(args) and values is not None:
+        ss = _op.linear_plant(args, model, values, point)       # numeric plant at the point
+        matrices = [sympy.Matrix(M.tolist()) if M.size else sympy.zeros(*M.shape)
+                    for M in (ss.A, ss.B, ss.C, ss.D)]
+        values = {}
+    elif _linear(args):                                      # symbolic, at the file's point
+        ss = model.linearize(*_op.file_point(args, model, point))
+        matrices = [ss.A, ss.B, ss.C, ss.D]
+    else:
+        try:
+            ss = model.state_space()
+        except NonlinearModelError as exc:
+            raise _needs_point(exc) from None
+        matrices = [ss.A, ss.B, ss.C, ss.D]
+    inp = args.input if args.input is not None else _only(ss.input_names, "input")
+    outp = args.output if args.output is not None else _only(ss.output_names, "output")
+    _check_signal(inp, ss.input_names, "input")
+    _check_signal(outp, ss.output_names, "output")
+    tfmod = _common._transfer_module()
+    G = tfmod.transfer_function(*matrices, input=inp, output=outp,
+                                input_names=list(ss.input_names), output_names=list(ss.output_names))
+    if values is None:
+        print(G.to_latex() if args.latex else str(G))
+        return
+    N = G.subs(values)
+    print(N.to_latex() if args.latex else str(N))
+    table = N.table()
+    if table.rows:
+        print()
+        print(table.to_latex() if args.latex else str(table))
+
+
+# --------------------------------------------------------------------------- export
+def export_format(args) -> str:
+    """The export format, and the output's suffix checked against it (before any work)."""
+    out = Path(args.output)
+    fmt = args.format
+    if fmt is None:
+        fmt = EXPORT_FORMATS.get(out.suffix.lower())
+        if fmt is None:
+            raise CLIError(f"cannot tell the export format from '{args.output}'; give --format "
+                           f"{'|'.join(sorted(set(EXPORT_FORMATS.values())))}")
+    if fmt == "c" and out.suffix not in ("", ".c"):
+        raise CLIError(f"C output '{args.output}' must end in .c (the header is written beside it as .h)")
+    if fmt == "fmu" and out.suffix.lower() != ".fmu":
+        raise CLIError(f"FMU output '{args.output}' must end in .fmu")
+    if fmt in ("m", "py") and out.suffix != f".{fmt}":
+        language = "MATLAB" if fmt == "m" else "Python"
+        raise CLIError(f"{language} output '{args.output}' must end in .{fmt}")
+    if _linear(args) and fmt not in NUMERIC_EXPORTS:
+        raise _op.OperatingPointError(
+            f"--operating-point and --trim apply to the numeric plant formats "
+            f"({', '.join(NUMERIC_EXPORTS)}); the {fmt} export writes the nonlinear equations")
+    return fmt
+
+
+def cmd_export(args) -> None:
+    """``bondgraph export``: a numeric plant (at an operating point if asked), code or an FMU."""
+    fmt = export_format(args)
+    out = Path(args.output)
+    _refuse_overwriting_inputs([out.with_suffix(".c"), out.with_suffix(".h")] if fmt == "c" else [out],
+                               args)
+    point = _point_file(args)
+    given = _given(args)
+    defn, model = _common._load(args.model)
+    if fmt in NUMERIC_EXPORTS:
+        from ..export import export
+        from ..numeric import compile_plant
+
+        full = _values(defn, model, args.params, given, complete=True)
+        if _linear(args):
+            plant = _op.linear_plant(args, model, full, point)
+        else:
+            try:
+                plant = compile_plant(model).plant(full)
+            except NonlinearModelError as exc:
+                raise _needs_point(exc) from None
+        export(plant, out, format=fmt)
+        print(f"wrote {out}")
+        return
+    if fmt == "fmu":
+        from ..fmu import export_fmu
+
+        full = _values(defn, model, args.params, given, complete=True)
+        export_fmu(defn, out, fmi=args.fmi or 2, kind=args.kind or "both", values=full)
+        print(f"wrote {out}")
+        return
+    values = _values(defn, model, args.params, given, complete=False)
+    if values is None:
+        print("note: not every parameter has a value; the generated code has no defaults",
+              file=sys.stderr)
+    if fmt == "c":
+        from ..codegen import write_c
+
+        src, hdr = write_c(model, out, name=args.name, defaults=values)
+        print(f"wrote {src}\nwrote {hdr}")
+    elif fmt == "m":
+        from ..codegen import write_matlab
+
+        print(f"wrote {write_matlab(model, out, defaults=values)}")
+    else:
+        from ..codegen import write_python
+
+        print(f"wrote {write_python(model, out, defaults=values)}")
+
+
+# --------------------------------------------------------------------------- draw
+def cmd_draw(args) -> None:
+    """``bondgraph draw``: the bond graph with causal strokes as SVG, PNG or TikZ."""
+    out = Path(args.output)
+    kind = args.format or out.suffix.lower().lstrip(".")
+    if kind not in DRAW_FORMATS:
+        raise CLIError(f"cannot tell the drawing format from '{args.output}'; use a .svg, .png or "
+                       ".tex file name, or give --format svg|png|tex")
+    if args.tikz_only and kind != "tex":
+        raise UsageError(f"--tikz-only applies to TikZ output (.tex or --format tex); "
+                       f"'{args.output}' is {kind}")
+    _refuse_overwriting_inputs([out], args)
+    from ..files import atomic_write
+    from ..modelfile import load_model
+
+    defn = load_model(args.model)
+    try:
+        drawing = importlib.import_module("bondgraph.drawing")
+    except ModuleNotFoundError as exc:
+        if exc.name not in ("bondgraph.drawing",):
+            raise
+        raise CLIError("drawing needs bondgraph.drawing (not available in this installation)") from None
+    # drawn here and written through atomic_write, so that a failure names the target file
+    scene = drawing.build_scene(drawing.diagram(defn.graph, causality=not args.no_causality))
+    if kind == "svg":
+        data = drawing.scene_to_svg(scene).encode("utf-8")
+        atomic_write(out, lambda fh: fh.write(data))
+    elif kind == "tex":
+        data = drawing.scene_to_tikz(scene, standalone=not args.tikz_only).encode("ascii")
+        atomic_write(out, lambda fh: fh.write(data))
+    else:
+        atomic_write(out, lambda fh: drawing.write_png(scene, fh))
+    print(f"wrote {args.output}")

@@ -1,0 +1,102 @@
+"""The ``sweep`` command: a parameter study (:mod:`bondgraph.study`) written as CSV or parquet.
+
+Examples
+--------
+>>> sorted(_SWEEP_FORMATS.values())
+['csv', 'parquet']
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from ..errors import ParameterValueError
+from ._common import CLIError, _refuse_overwriting_inputs
+
+__all__ = ["cmd_sweep"]
+
+_SWEEP_FORMATS = {".csv": "csv", ".parquet": "parquet"}
+
+
+def cmd_sweep(args) -> None:
+    """``bondgraph sweep``: a parameter study (bondgraph.study) written as CSV or parquet."""
+    import warnings
+
+    from ..files import atomic_write
+    from ..study import StudyWarning, sweep
+    from ..study._deps import require
+    from ..study.config import load_study
+
+    out = Path(args.output)
+    fmt = _SWEEP_FORMATS.get(out.suffix.lower())
+    if fmt is None:
+        raise CLIError(f"cannot tell the table format from '{args.output}'; use a .csv or .parquet "
+                       "file name")
+    if args.workers is not None and args.scheduler is not None:
+        raise CLIError("give --workers (a local process pool) or --scheduler (a Dask cluster), not both")
+    _refuse_overwriting_inputs([out], args)
+    require("pandas", "bondgraph sweep")
+    if fmt == "parquet":
+        require("pyarrow", f"writing '{args.output}' (parquet)")
+    study = load_study(args.params)
+    opts = study.options
+    metric = args.metric or opts.get("metric")
+    if not metric:
+        from ..study.metrics import BUILTIN
+
+        raise CLIError(f"no metric: give --metric NAME ({', '.join(BUILTIN)}) or metric = [...] "
+                       f"in the [study] table of '{args.params}'")
+    from ..modelfile import load_model
+
+    defn = load_model(args.model)
+    executor, close = _sweep_executor(args)
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", StudyWarning)
+            try:
+                df = sweep(defn, study.parameters, metric, values=study.values,
+                           n=args.n if args.n is not None else opts.get("n"),
+                           design=args.design or opts.get("design", "sobol"),
+                           seed=args.seed if args.seed is not None else opts.get("seed"),
+                           executor=executor,
+                           chunk_size=args.chunk_size or opts.get("chunk_size"),
+                           progress=not args.no_progress and sys.stderr.isatty(),
+                           input=args.input or opts.get("input"),
+                           output=args.output_signal or opts.get("output"))
+            except ParameterValueError as exc:      # names or values of the study file
+                raise CLIError(f"study file '{args.params}': {exc}") from None
+    finally:
+        close()
+    if fmt == "csv":
+        data = df.to_csv(index=False).encode("utf-8")
+        atomic_write(out, lambda fh: fh.write(data))
+    else:
+        atomic_write(out, lambda fh: df.to_parquet(fh, index=False))
+    for w in caught:
+        if issubclass(w.category, StudyWarning):
+            print(f"note: {w.message}", file=sys.stderr)
+    print(f"wrote {out} ({len(df)} samples, design {df.attrs['design']}, seed {df.attrs['seed']}, "
+          f"{df.attrs['failed']} failed)")
+
+
+def _sweep_executor(args):
+    """(executor, close) for ``--workers`` / ``--scheduler``; (None, no-op) in process."""
+    if args.workers is not None:
+        if args.workers < 1:
+            raise CLIError(f"--workers must be at least 1; got {args.workers}")
+        from concurrent.futures import ProcessPoolExecutor
+
+        pool = ProcessPoolExecutor(args.workers)
+        return pool, lambda: pool.shutdown(cancel_futures=True)
+    if args.scheduler is not None:
+        from ..study._deps import require
+
+        distributed = require("distributed", "--scheduler (Dask)")
+        try:
+            client = distributed.Client(args.scheduler, timeout="10s")
+        except (OSError, TimeoutError, ValueError) as exc:
+            raise CLIError(f"cannot reach the Dask scheduler at {args.scheduler!r}: {exc}") from None
+        return client, client.close
+    return None, lambda: None
+
