@@ -19,10 +19,21 @@ Formats
     MATLAB char arrays: ASCII names (quotes and newlines included) read back
     exactly in MATLAB and Octave; non-ASCII characters (accents, Greek) come
     back garbled in Octave 7, so keep names ASCII for ``.mat`` exchange.
+    A sparse plant (:attr:`NumericStateSpace.is_sparse`) writes ``A``, ``B``,
+    ``C``, ``D`` as MATLAB sparse matrices (``issparse`` is true in MATLAB;
+    :func:`scipy.io.loadmat` gives ``scipy.sparse`` CSC matrices).
 
 ``.npz`` (:func:`numpy.savez`)
     The same arrays under the same names; names as unicode string arrays,
-    ``model_name`` and ``format`` as 0-d string arrays.
+    ``model_name`` and ``format`` as 0-d string arrays.  A sparse plant
+    stores each of ``A``, ``B``, ``C``, ``D`` as four CSR arrays instead of
+    one dense array (the layout of :func:`scipy.sparse.save_npz`, one set per
+    matrix): ``A_data`` (float64 values), ``A_indices`` (column of each
+    value), ``A_indptr`` (row pointers, rows + 1) and ``A_shape`` (2
+    integers), and so on for ``B``, ``C``, ``D``; a reader tells the layouts
+    apart by the presence of ``A`` or ``A_data``.  :func:`load_npz` reads
+    both back (``scipy.sparse.csr_array((z["A_data"], z["A_indices"],
+    z["A_indptr"]), shape=z["A_shape"])`` by hand).
 
 JSON, format ``bondgraph-statespace`` version 1
     One object::
@@ -46,6 +57,11 @@ JSON, format ``bondgraph-statespace`` version 1
     rows is ``[]``.  :func:`load_json` reads the format back and checks every
     field (``model`` and ``parameters`` may be left out; any other key
     missing, an unknown key, a repeated key or another version is refused).
+    JSON stays dense (the format any reader can take as is): a sparse plant
+    is written with its matrices expanded when it has at most
+    :data:`~bondgraph.numeric.SPARSE_THRESHOLD` states, and refused above
+    (``A`` alone would be ``n^2`` numbers, 400 MB of text at 5,000 states):
+    write ``.mat`` or ``.npz``, which keep the matrices sparse.
 
 Examples
 --------
@@ -73,9 +89,11 @@ import numpy as np
 
 from .errors import BondGraphError
 from .numeric.plant import NumericStateSpace
+from .numeric.sparse import SPARSE_THRESHOLD
+from .numeric.statespace import issparse
 
 __all__ = ["ExportError", "FORMAT_NAME", "FORMAT_VERSION", "export", "export_mat", "export_npz",
-           "export_json", "load_json", "atomic_write", "atomic_write_many", "FORMATS", "EXPORT_FORMATS",
+           "export_json", "load_json", "load_npz", "atomic_write", "atomic_write_many", "FORMATS", "EXPORT_FORMATS",
            "decode_json", "number_problem", "checked_path", "HugeInt"]
 
 FORMAT_NAME = "bondgraph-statespace"
@@ -128,7 +146,7 @@ def _check_exportable(plant: NumericStateSpace) -> None:
             f"plant {plant.name!r} is improper (an output depends on an input derivative, "
             "D_derivatives is nonzero): A, B, C, D cannot hold it; export the proper outputs "
             "only, or write the transfer functions (model.transfer_function(...))")
-    if any(np.any(S != 0.0) for S in plant.state_shift):
+    if any((S.count_nonzero() if issparse(S) else np.count_nonzero(S)) for S in plant.state_shift):
         raise ExportError(
             f"plant {plant.name!r} uses shifted states z = x - S u (its derivation needs an "
             "input derivative): its A, B, C, D are not in the model's states "
@@ -205,8 +223,15 @@ def export_npz(plant: NumericStateSpace, path: PathLike) -> None:
     p = _check_plant(plant)
     pnames = list(p.parameters)
     # values typed Any: numpy's stub would match ``**data`` to ``allow_pickle: bool`` too
-    data: dict[str, Any] = {
-        "A": p.A, "B": p.B, "C": p.C, "D": p.D,
+    data: dict[str, Any] = {}
+    for key in "ABCD":
+        M = getattr(p, key)
+        if issparse(M):
+            data.update({f"{key}_data": M.data, f"{key}_indices": M.indices,
+                         f"{key}_indptr": M.indptr, f"{key}_shape": np.array(M.shape)})
+        else:
+            data[key] = M
+    data.update({
         "state_names": np.array(p.state_names, dtype=str).reshape(-1),
         "input_names": np.array(p.input_names, dtype=str).reshape(-1),
         "output_names": np.array(p.output_names, dtype=str).reshape(-1),
@@ -215,8 +240,91 @@ def export_npz(plant: NumericStateSpace, path: PathLike) -> None:
         "model_name": np.array(p.name),
         "format": np.array(FORMAT_NAME),
         "format_version": np.array(FORMAT_VERSION),
-    }
+    })
     atomic_write(path, lambda fh: np.savez(fh, **data))
+
+
+def load_npz(path: PathLike) -> NumericStateSpace:
+    """Read a ``.npz`` file written by :func:`export_npz` (dense or sparse layout).
+
+    Parameters
+    ----------
+    path : str or path-like
+
+    Returns
+    -------
+    NumericStateSpace
+        Sparse when the file holds the sparse layout.
+
+    Raises
+    ------
+    ExportError
+        Naming the file and the array at fault (missing, wrong format name,
+        shapes that do not match the names).
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> from bondgraph.numeric import NumericStateSpace
+    >>> ss = NumericStateSpace([[-1.0, 0.0], [1.0, -2.0]], [[1.0], [0.0]], [[0.0, 1.0]], [[0.0]],
+    ...                        ("x1", "x2"), ("u",), ("y",), {"k": 2.0}, "two").to_sparse()
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     export_npz(ss, os.path.join(d, "two.npz"))
+    ...     back = load_npz(os.path.join(d, "two.npz"))
+    >>> back.is_sparse, back.A.toarray().tolist(), dict(back.parameters)
+    (True, [[-1.0, 0.0], [1.0, -2.0]], {'k': 2.0})
+    """
+    target = _target(path)
+    where = str(target)
+
+    def fail(message: str) -> ExportError:
+        return ExportError(f"'{where}': {message}", path=where)
+
+    try:
+        with np.load(target, allow_pickle=False) as z:
+            arrays = {key: z[key] for key in z.files}
+    except OSError as exc:
+        raise ExportError(f"cannot read '{where}': {exc.strerror or exc}", path=where,
+                          errno=exc.errno) from exc
+    except ValueError as exc:
+        raise fail(f"not a numpy .npz archive of arrays: {exc}") from exc
+    if str(arrays.get("format", "")) != FORMAT_NAME:
+        raise fail(f'not a {FORMAT_NAME} archive (no "format" array holding "{FORMAT_NAME}")')
+    version = arrays.get("format_version")
+    if version is None or version.shape != () or int(version) != FORMAT_VERSION:
+        raise fail(f"unsupported format_version {version}; this bondgraph reads {FORMAT_VERSION}")
+    missing = [k for k in ("state_names", "input_names", "output_names", "parameter_names",
+                           "parameter_values", "model_name") if k not in arrays]
+    mats = {}
+    for key in "ABCD":
+        if key in arrays:
+            mats[key] = arrays[key]
+        elif all(f"{key}_{part}" in arrays for part in ("data", "indices", "indptr", "shape")):
+            import scipy.sparse
+
+            try:
+                mats[key] = scipy.sparse.csr_array(
+                    (arrays[f"{key}_data"], arrays[f"{key}_indices"], arrays[f"{key}_indptr"]),
+                    shape=tuple(int(v) for v in arrays[f"{key}_shape"]))
+            except (TypeError, ValueError) as exc:
+                raise fail(f"malformed sparse matrix {key} ({key}_data, {key}_indices, "
+                           f"{key}_indptr, {key}_shape): {exc}") from exc
+        else:
+            missing.append(f"{key} (or {key}_data, {key}_indices, {key}_indptr, {key}_shape)")
+    if missing:
+        raise fail(f"missing arrays {', '.join(missing)}")
+    if len({issparse(M) for M in mats.values()}) > 1:
+        raise fail("A, B, C, D must all be dense or all sparse")
+    names = [tuple(str(v) for v in arrays[k].reshape(-1))
+             for k in ("state_names", "input_names", "output_names", "parameter_names")]
+    values = arrays["parameter_values"].reshape(-1)
+    if values.shape[0] != len(names[3]):
+        raise fail(f"{len(names[3])} parameter_names but {values.shape[0]} parameter_values")
+    try:
+        return NumericStateSpace(mats["A"], mats["B"], mats["C"], mats["D"], *names[:3],
+                                 dict(zip(names[3], values.tolist())), str(arrays["model_name"]))
+    except (BondGraphError, TypeError, ValueError) as exc:
+        raise fail(f"malformed {FORMAT_NAME} archive: {exc}") from exc
 
 
 def to_json_dict(plant: NumericStateSpace) -> dict[str, Any]:
@@ -230,6 +338,13 @@ def to_json_dict(plant: NumericStateSpace) -> dict[str, Any]:
     ([[-1.0]], 'bondgraph-statespace')
     """
     p = _check_plant(plant)
+    if p.is_sparse:
+        if p.nstates > SPARSE_THRESHOLD:
+            raise ExportError(
+                f"plant {p.name!r} is sparse with {p.nstates} states: JSON holds dense matrices "
+                f"(A alone would be {p.nstates ** 2} numbers); write .mat or .npz, which keep "
+                "the matrices sparse")
+        p = p.to_dense()
     return {
         "format": FORMAT_NAME,
         "version": FORMAT_VERSION,
@@ -289,7 +404,8 @@ def export_json(plant: NumericStateSpace, path: PathLike) -> None:
     doc = to_json_dict(plant)
     where = os.fspath(_target(path))
     for key in ("A", "B", "C", "D"):
-        matrix = np.asarray(getattr(plant, key))
+        matrix = getattr(plant, key)
+        matrix = matrix.toarray() if issparse(matrix) else np.asarray(matrix)
         bad = np.argwhere(~np.isfinite(matrix)) if np.isrealobj(matrix) else np.argwhere(matrix.imag != 0)
         if bad.size:
             i, j = (int(k) for k in bad[0])
