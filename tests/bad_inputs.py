@@ -716,6 +716,40 @@ def cli_missing_dir(d):
     cli("export", model_file(d, MSD_FILE), "-o", str(d.out / "missing" / "plant.mat"))
 
 
+def op_file(d: Dirs, text: str) -> str:
+    path = d.inp / "op.toml"
+    path.write_text(text, encoding="utf-8")
+    return str(path)
+
+
+@case("command line", "operating-point file with a state the model does not have", CliError,
+      r"exit 2: error: operating-point file '.*op\.toml': the model has no state named 'x'; "
+      r"valid states: p_m, q_c")
+def cli_op_unknown_state(d):
+    cli("export", model_file(d, MSD_FILE), "--operating-point",
+        op_file(d, "[states]\np_m = 0.0\nx = 0.0\n[inputs]\nF = 0.0\n"), "-o", str(d.out / "plant.json"))
+
+
+@case("command line", "operating-point file without a value for state q_c", CliError,
+      r"exit 2: error: operating-point file '.*op\.toml': no value for the state q_c")
+def cli_op_missing_state(d):
+    cli("export", model_file(d, MSD_FILE), "--operating-point",
+        op_file(d, "[states]\np_m = 0.0\n[inputs]\nF = 0.0\n"), "-o", str(d.out / "plant.json"))
+
+
+@case("command line", 'operating-point file with q_c = "0"', CliError,
+      r"exit 2: error: operating-point file '.*op\.toml': state 'q_c' must be a number; got str '0'")
+def cli_op_text_value(d):
+    cli("export", model_file(d, MSD_FILE), "--operating-point",
+        op_file(d, '[states]\np_m = 0.0\nq_c = "0"\n[inputs]\nF = 0.0\n'), "-o", str(d.out / "plant.json"))
+
+
+@case("command line", "export --trim --input-value G=1 (no input G)", CliError,
+      r"exit 2: error: .*--input-value G=\.\.\.: the model has no input named 'G'; valid inputs: F")
+def cli_trim_unknown_input(d):
+    cli("export", model_file(d, MSD_FILE), "--trim", "--input-value", "G=1", "-o", str(d.out / "plant.json"))
+
+
 def render(results: list[tuple[Case, str]]) -> str:
     """The catalogue as a Markdown page (``docs/errors.md``)."""
     lines = ["# Errors: the bad-input catalogue", "",

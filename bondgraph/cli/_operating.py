@@ -234,6 +234,6 @@ def file_point(args, model, point=None) -> tuple[dict, dict]:
 
 def _note(how: str, states: Mapping[str, float], inputs: Mapping[str, float]) -> None:
     def listed(d):
-        return ", ".join(f"{k} = {v:.6g}" for k, v in d.items()) or "-"
+        return ", ".join(f"{k} = {float(v)!r}" for k, v in d.items()) or "-"
     print(f"note: operating point {how}: states {listed(states)}; inputs {listed(inputs)}",
           file=sys.stderr)
