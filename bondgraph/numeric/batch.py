@@ -29,7 +29,7 @@ from .errors import NumericError
 from .sparse import Pattern, ShiftedSolver, dense_allowed, nearest_eigenvalues, sparse_frequency_response
 from .statespace import NumericStateSpace, add_derivatives
 
-__all__ = ["BatchStateSpace", "SparseBatchStateSpace"]
+__all__ = ["BatchStateSpace", "SparseBatchStateSpace", "dense_stacks"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -235,3 +235,24 @@ def _rebuild_sparse_batch(fields: dict) -> SparseBatchStateSpace:
     fields["values"] = freeze(fields["values"])
     fields["parameter_values"] = freeze(fields["parameter_values"])
     return SparseBatchStateSpace(**fields)
+
+
+def dense_stacks(plants, *, what: str, dense: str = "warn"):
+    """``plants`` (a batch or one plant) with dense arrays, for code that needs them.
+
+    Dense batches and plants are returned as they are; a sparse one is
+    converted after ``dense=`` is asked (see
+    :func:`~bondgraph.numeric.sparse.dense_allowed`: ``"warn"`` names the
+    memory of the ``(P, n, n)`` stack, ``"refuse"`` raises).
+
+    Examples
+    --------
+    >>> ss = NumericStateSpace([[-1.0]], [[1.0]], [[1.0]], [[0.0]], ("x",), ("u",), ("y",))
+    >>> dense_stacks(ss.to_sparse(), what="a test", dense="allow").A
+    array([[-1.]])
+    """
+    if not getattr(plants, "is_sparse", False):
+        return plants
+    count = len(plants) if isinstance(plants, SparseBatchStateSpace) else 1
+    dense_allowed(dense, len(plants.state_names), what, plants.name, copies=count)
+    return plants.to_dense()

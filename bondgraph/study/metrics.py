@@ -60,6 +60,7 @@ from typing import Any, Callable, Mapping, Optional, Sequence
 import numpy as np
 
 from ..numeric._linalg import ChannelResponse, channel_response, sorted_eigenvalues
+from ..numeric.batch import dense_stacks
 from ._deps import StudyError
 
 __all__ = ["Metric", "MaxReal", "MinDamping", "DCGain", "PeakGain", "Bandwidth", "StepInfo",
@@ -91,6 +92,7 @@ class Metric:
 
     def plant(self, ss: Any) -> tuple[float, ...]:
         """The metric's values for one plant (the vectorised code on a stack of one)."""
+        ss = dense_stacks(ss, what=f"metric {self.name}")
         one = SimpleNamespace(A=ss.A[None], B=ss.B[None], C=ss.C[None], D=ss.D[None],
                               D_derivatives=tuple(M[None] for M in ss.D_derivatives))
         return tuple(float(v[0]) for v in self.stack(one))
@@ -113,7 +115,7 @@ class MaxReal(Metric):
     vectorised = True
 
     def stack(self, plants: Any) -> tuple[np.ndarray, ...]:
-        ev = sorted_eigenvalues(plants.A)
+        ev = sorted_eigenvalues(dense_stacks(plants, what=f"metric {self.name}").A)
         return (ev.real.max(axis=-1, initial=-np.inf) if ev.shape[-1] else np.full(len(ev), np.nan),)
 
 
@@ -132,7 +134,7 @@ class MinDamping(Metric):
     vectorised = True
 
     def stack(self, plants: Any) -> tuple[np.ndarray, ...]:
-        ev, keep = _poles(plants)
+        ev, keep = _poles(dense_stacks(plants, what=f"metric {self.name}"))
         with np.errstate(invalid="ignore", divide="ignore"):
             zeta = np.where(keep, -ev.real / np.where(keep, np.abs(ev), 1.0), np.inf)
         out = zeta.min(axis=-1, initial=np.inf)
@@ -199,6 +201,7 @@ class DCGain(_Channel):
     vectorised = True
 
     def stack(self, plants: Any) -> tuple[np.ndarray, ...]:
+        plants = dense_stacks(plants, what=f"metric {self.name}")
         return (self._response(plants, np.zeros(1))[:, 0].real,)
 
 
@@ -220,6 +223,7 @@ class PeakGain(_Channel):
     vectorised = True
 
     def stack(self, plants: Any) -> tuple[np.ndarray, ...]:
+        plants = dense_stacks(plants, what=f"metric {self.name}")
         P = plants.A.shape[0]
         if self.omega is not None:
             w = np.broadcast_to(np.sort(np.asarray(self.omega, dtype=float)), (P, len(self.omega)))
@@ -277,6 +281,7 @@ class Bandwidth(_Channel):
     vectorised = True
 
     def stack(self, plants: Any) -> tuple[np.ndarray, ...]:
+        plants = dense_stacks(plants, what=f"metric {self.name}")
         P = plants.A.shape[0]
         dc = np.abs(self._response(plants, np.zeros(1))[:, 0])
         level = dc * 10.0 ** (self.dbdrop / 20.0)
@@ -308,6 +313,7 @@ class StepInfo(_Channel):
     def plant(self, ss: Any) -> tuple[float, ...]:
         import control
 
+        ss = dense_stacks(ss, what=f"metric {self.name}")
         sys = control.ss(ss.A, ss.B[:, [self._j]], ss.C[[self._i], :], ss.D[[self._i]][:, [self._j]])
         info = control.step_info(sys, SettlingTimeThreshold=self.settling)
         picked = {"overshoot": info["Overshoot"], "settling_time": info["SettlingTime"]}
