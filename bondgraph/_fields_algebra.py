@@ -10,6 +10,7 @@ cannot invert uniquely.
 
 from __future__ import annotations
 
+import functools
 from typing import Mapping, Sequence
 
 import numpy as np
@@ -97,8 +98,10 @@ def check_definite(values: np.ndarray, *, owner: str, what: str, definite: bool 
                          f"{'positive' if definite else 'non-negative'} eigenvalues")
 
 
-def inverse(M: sympy.MatrixBase) -> sympy.ImmutableMatrix:
-    """``M^-1``: numeric LU, or adjugate over a factored determinant for symbols."""
+@functools.lru_cache(maxsize=64)
+def inverse(M: sympy.ImmutableMatrix) -> sympy.ImmutableMatrix:
+    """``M^-1``: numeric LU, or adjugate over a factored determinant for symbols (cached:
+    derivation asks for each port of a field)."""
     if M.rows == 0:
         return sympy.ImmutableMatrix(M)
     if not M.free_symbols:
@@ -134,7 +137,7 @@ def partial_solve(T: sympy.MatrixBase, w_known: Mapping[int, sympy.Expr],
         wS = sympy.Matrix([w_known[i] for i in S]) if S else sympy.zeros(0, 1)
         yU = sympy.Matrix([y_known[i] for i in U])
         rhs = yU - (T.extract(U, S) * wS if S else sympy.zeros(len(U), 1))
-        wU = inverse(T.extract(U, U)) * rhs
+        wU = inverse(sympy.ImmutableMatrix(T.extract(U, U))) * rhs
         for k, i in enumerate(U):
             w[i], y[i] = wU[k], y_known[i]
     full = sympy.Matrix(w)

@@ -32,6 +32,19 @@ bond graph (:func:`bondgraph.beam.fragment.modal_fragment`); the hub torque
 reaches mode ``i`` through a TF of modulus ``1/Theta_i`` (``Theta_i`` = hub
 rotation of the mode).
 
+Paper form
+----------
+``build(formulation="paper")`` writes the model as the paper writes it
+(Eqs. 15-17): the generalised coordinates ``q = (theta, eta_1..eta_n)``
+each have a 1-junction (``hub``, ``eta_1``, ...), the coupled mass matrix
+``M`` above is one inertia field ``IF:M`` on all of them (``p = M q'``, the
+rigid rotation coupled to every mode through ``h_j``), the modal stiffness
+``diag(k_j)`` one compliance field ``CF:K`` on the modal junctions, and the
+torque drives the hub junction.  Its parameters are the entries ``I_T``,
+``h_j``, ``m_j``, ``k_j`` (values from the Rayleigh-Ritz integrals).  It has
+the same eigenvalues and sensor transfer functions as the diagonalised
+(``"system"``) form, which needs no field.
+
 Sensors (Eqs. 21-26): integrated tip accelerometer ``e_ac = G_a ((r+L) theta +
 y(L))`` (the paper writes ``L theta``; the tip of an arm clamped at radius
 ``r`` is at ``r + L``), potentiometer ``e_p = G_p theta``, strain gauge at
@@ -59,7 +72,11 @@ import bondgraph as bg
 from bondgraph.beam import hub_assumed_modes, modal_beam
 from bondgraph.beam.fragment import ModeData, modal_fragment
 
-__all__ = ["TABLE1", "PARAMETERS", "build", "model", "system_modes"]
+__all__ = ["TABLE1", "PARAMETERS", "FORMULATIONS", "build", "build_paper", "model",
+           "system_modes"]
+
+#: ``formulation=`` of :func:`build`: diagonalised system modes, or the paper's coupled M, K
+FORMULATIONS = ("system", "paper")
 
 #: Seed 001 Table 1.
 TABLE1 = {
@@ -102,13 +119,19 @@ def system_modes(n_modes: int = 3, *, tip_mass: float = 0.0):
 
 
 def build(n_modes: int = 3, *, tip_mass: float = 0.0, strain_position: float = 0.05,
-          damping_ratio: float = 0.0, n_system_modes: int | None = None):
+          damping_ratio: float = 0.0, n_system_modes: int | None = None,
+          formulation: str = "system"):
     """Bond graph, outputs and parameter values of the hub with two appendages.
 
     Parameters
     ----------
     n_modes : int
         Assumed (clamped-free) modes per arm in the Rayleigh-Ritz basis.
+    formulation : {"system", "paper"}
+        ``"system"``: the coupled ``M, K`` diagonalised into system modes, one
+        I and one C per mode; ``"paper"``: ``M`` as an inertia field and ``K``
+        as a compliance field on the coordinates (theta, eta_j), as in the
+        paper's Eqs. (15-17) (:func:`build_paper`).
     tip_mass : float
         Tip mass of each arm (kg).
     strain_position : float
@@ -124,6 +147,14 @@ def build(n_modes: int = 3, *, tip_mass: float = 0.0, strain_position: float = 0
     >>> sorted(outs)
     ['e_ac', 'e_p', 'e_s', 'e_t']
     """
+    if formulation not in FORMULATIONS:
+        raise ValueError(f"formulation must be 'system' or 'paper', got {formulation!r}")
+    if formulation == "paper":
+        if n_system_modes is not None:
+            raise ValueError("n_system_modes truncates the system modes of the 'system' "
+                             "formulation; the 'paper' formulation keeps every assumed mode")
+        return build_paper(n_modes, tip_mass=tip_mass, strain_position=strain_position,
+                           damping_ratio=damping_ratio)
     beam, rr, w2, Phi = system_modes(n_modes, tip_mass=tip_mass)
     keep = n_modes if n_system_modes is None else n_system_modes
     tip_row = np.array(rr.tip_output)
@@ -163,10 +194,74 @@ def build(n_modes: int = 3, *, tip_mass: float = 0.0, strain_position: float = 0
     return g, outputs, params
 
 
-def model(*, n_modes: int = 3, tip_mass: float = 0.0):
+def build_paper(n_modes: int = 3, *, tip_mass: float = 0.0, strain_position: float = 0.05,
+                damping_ratio: float = 0.0):
+    """The paper form: coupled ``M`` as ``IF:M``, modal ``K`` as ``CF:K`` (Eqs. 15-17).
+
+    Port 1 of ``IF:M`` is the hub rotation ``theta``, port ``j + 1`` the modal
+    coordinate ``eta_j`` (port ``j`` of ``CF:K``).  ``damping_ratio`` adds the
+    modal damping of the system modes as a resistive field ``RF:D`` on all
+    the coordinates (``D = M Phi diag(2 zeta w) Phi^T M``, the system form's
+    damping written in these coordinates).
+
+    Examples
+    --------
+    >>> g, outs, params = build_paper(3)
+    >>> sorted(el.label() for el in g.elements if el.kind in ("IF", "CF"))
+    ['CF:K', 'IF:M']
+    >>> round(params["I_T"], 4), sorted(outs)
+    (1.5088, ['e_ac', 'e_p', 'e_s', 'e_t'])
+    """
+    beam, rr, w2, Phi = system_modes(n_modes, tip_mass=tip_mass)
+    M_num, _, K_num = rr.matrices()
+    n = n_modes
+    sym = lambda name: sympy.Symbol(name, positive=True)    # noqa: E731
+    h = [sympy.Symbol(f"h_{j}", real=True) for j in range(1, n + 1)]   # couplings: any sign
+    m = [sym(f"m_{j}") for j in range(1, n + 1)]
+    k = [sym(f"k_{j}") for j in range(1, n + 1)]
+    M = sympy.zeros(n + 1, n + 1)
+    M[0, 0] = sym("I_T")
+    for j in range(n):
+        M[0, j + 1] = M[j + 1, 0] = h[j]
+        M[j + 1, j + 1] = m[j]
+    params = dict(PARAMETERS, I_T=float(M_num[0, 0]))
+    for j in range(n):
+        params.update({h[j].name: float(M_num[0, j + 1]), m[j].name: float(M_num[j + 1, j + 1]),
+                       k[j].name: float(K_num[j + 1, j + 1])})
+    g = bg.BondGraph("appendages_paper")
+    coords = [bg.One("hub")] + [bg.One(f"eta_{j}") for j in range(1, n + 1)]
+    g.add(bg.Se("tau"), *coords, bg.IField("M", M), bg.CField("K", stiffness=sympy.diag(*k)))
+    g.connect("tau", "hub")
+    for c in coords:
+        g.connect(c, "M")
+    for c in coords[1:]:
+        g.connect(c, "K")
+    if damping_ratio:
+        w = np.sqrt(np.clip(w2, 0.0, None))
+        D = M_num @ Phi @ np.diag(2 * damping_ratio * w) @ Phi.T @ M_num
+        g.add(bg.RField("D", ((D + D.T) / 2).tolist()))
+        for c in coords:
+            g.connect(c, "D")
+    Ga, Gp, Gt = (sympy.Symbol(name, positive=True) for name in ("G_a", "G_p", "G_t"))
+    eta = [bg.displacement("K", port=j) for j in range(1, n + 1)]
+    theta = bg.displacement("hub")
+    tip = rr.tip_output
+    d2 = [mode.shape(strain_position, 2) for mode in beam.modes]
+    e_half = TABLE1["thickness"] / 2
+    outputs = {
+        "e_ac": Ga * (tip[0] * theta + sympy.Add(*[tip[j + 1] * eta[j] for j in range(n)])),
+        "e_p": Gp * theta,
+        "e_s": sympy.Add(*[e_half * float(d2[j]) * eta[j] for j in range(n)]),
+        "e_t": Gt * bg.flow("hub"),
+    }
+    return g, outputs, params
+
+
+def model(*, n_modes: int = 3, tip_mass: float = 0.0, formulation: str = "system"):
     """Model definition (the model-file protocol)."""
     from bondgraph.modelfile import ModelDefinition
 
-    g, outputs, params = build(n_modes, tip_mass=tip_mass)
+    g, outputs, params = build(n_modes, tip_mass=tip_mass, formulation=formulation)
     return ModelDefinition(graph=g, outputs=outputs, parameters=params,
-                           description="Hub on gas bearing with two flexible appendages (seed 001)")
+                           description="Hub on gas bearing with two flexible appendages (seed 001"
+                           f", {formulation} formulation)")
