@@ -312,12 +312,13 @@ def bond_powers(model):
     flat = model.augmented.flat
     outs, sign = {}, {}
     for el in flat.elements:
-        if el.kind in ("R", "Se", "Sf"):
-            (k,) = flat.incidence[el.name]
-            bond = flat.bonds[k]
-            outs[f"e{k}"], outs[f"f{k}"] = bg.effort(bond.number), bg.flow(bond.number)
-            into = bond.head == el.name
-            sign[k] = (el.kind, 1 if into == (el.kind == "R") else -1)
+        if el.kind in ("R", "RF", "Se", "Sf"):       # a resistive field: each of its bonds
+            kind = "R" if el.kind == "RF" else el.kind
+            for k in flat.incidence[el.name]:
+                bond = flat.bonds[k]
+                outs[f"e{k}"], outs[f"f{k}"] = bg.effort(bond.number), bg.flow(bond.number)
+                into = bond.head == el.name
+                sign[k] = (kind, 1 if into == (kind == "R") else -1)
     if not outs:
         return sympy.Integer(0), sympy.Integer(0)
     with warnings.catch_warnings():
@@ -460,6 +461,7 @@ def library():
         "flexcam-damped": lambda: flexcam.model(damping_ratio=0.02),
         "appendages": lambda: appendages.model(),
         "appendages-tip-mass": lambda: appendages.model(tip_mass=0.05),
+        "appendages-paper (IField, CField)": lambda: appendages.model(formulation="paper"),
     }
 
 
@@ -607,3 +609,117 @@ def test_free_oscillator_without_inputs():
     assert ph.G.shape == (2, 0) and ph.output_names == () and ph.outputs() == ()
     assert rebuilds(ph, model)
     assert "u =" not in ph.to_latex()
+
+
+# ------------------------------------------------------------------ multiport fields
+def two_dof_fields():
+    """Se F on coordinate 1; p = M v (IField), e = K q (CField), e = D v (RField)."""
+    m1, m2, m12, k1, k2, k12, d1, d2 = pos("m1 m2 m12 k1 k2 k12 d1 d2")
+    M = sympy.Matrix([[m1, m12], [m12, m2]])
+    K = sympy.Matrix([[k1, k12], [k12, k2]])
+    D = sympy.diag(d1, d2)
+    g = bg.BondGraph("fields")
+    g.add(bg.Se("F"), bg.One("v1"), bg.One("v2"), bg.IField("M", M),
+          bg.CField("K", stiffness=K), bg.RField("D", D))
+    for t, h in [("F", "v1"), ("v1", "M"), ("v2", "M"), ("v1", "K"), ("v2", "K"),
+                 ("v1", "D"), ("v2", "D")]:
+        g.connect(t, h)
+    return g, M, K, D
+
+
+def test_fields_give_the_quadratic_energy_and_the_canonical_structure():
+    """By hand: x = (p, q); grad H = (M^-1 p, K q); p' = F e1 - K q - D v, q' = v,
+    so J = [[0, -1], [1, 0]] (blocks), R = diag(D, 0), G = e1."""
+    g, M, K, D = two_dof_fields()
+    model = bg.derive(g)
+    p = sympy.Matrix(xs(model, ["p_M_1", "p_M_2"]))
+    q = sympy.Matrix(xs(model, ["q_K_1", "q_K_2"]))
+    ph = port_hamiltonian(model)
+    H = (p.T * M.inv() * p)[0, 0] / 2 + (q.T * K * q)[0, 0] / 2
+    assert zero(ph.H - H) and zero(model.energy() - H)
+    Z, I2 = sympy.zeros(2), sympy.eye(2)
+    assert same(ph.J, sympy.BlockMatrix([[Z, -I2], [I2, Z]]).as_explicit())
+    assert same(ph.R, sympy.BlockMatrix([[D, Z], [Z, Z]]).as_explicit())
+    assert same(ph.G, [[1], [0], [0], [0]]) and same(ph.Q, sympy.diag(M.inv(), K))
+    assert rebuilds(ph, model)
+    check_power_balance(model, ph)
+
+
+def test_field_in_mixed_causality_gives_the_effective_inertia():
+    """Both ports of p = M v on one junction: port 2 is in derivative causality,
+    v = p1/(m1 + m12) and H = (m1 + 2 m12 + m2) v^2/2 (by hand, v^T M v/2 with v = (v, v))."""
+    m1, m2, m12, b = pos("m1 m2 m12 b")
+    g = bg.BondGraph("joined")
+    g.add(bg.Se("F"), bg.One("v"), bg.R("b"), bg.IField("M", [[m1, m12], [m12, m2]]))
+    for t, h in [("F", "v"), ("v", "b"), ("v", "M"), ("v", "M")]:
+        g.connect(t, h)
+    model = bg.derive(g)
+    assert model.state_names == ("p_M_1",) and model.augmented.derivative == ("M",)
+    (p,) = model.states
+    v = p / (m1 + m12)
+    m_eff = m1 + 2 * m12 + m2
+    ph = port_hamiltonian(model)
+    assert zero(ph.H - m_eff * v**2 / 2)
+    # Newton on the effective body: m_eff v' = F - b v, and p = (m1 + m12) v
+    F = S("F", real=True)
+    assert zero(model.rhs[0] - (m1 + m12) * (F - b * v) / m_eff)
+    assert rebuilds(ph, model)
+    check_power_balance(model, ph)
+
+
+def _random_spd(rng: random.Random, n: int) -> sympy.Matrix:
+    """A random symmetric positive-definite rational matrix: L L^T + I/2."""
+    L = sympy.Matrix(n, n, lambda i, j: sympy.Rational(rng.randint(-4, 4), 3) if j <= i else 0)
+    return L * L.T + sympy.eye(n) / 2
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_random_field_models(seed):
+    """Random chains of 1-junctions sharing an IField, a CField and an RField with random
+    SPD matrices, with one-port I/C/R added at random: x' rebuilt from (J, R, H, G),
+    J skew, W >= 0, and the power balance against the bond powers."""
+    rng = random.Random(seed)
+    n = rng.randint(2, 3)
+    g = bg.BondGraph(f"random{seed}")
+    juncs = [bg.One(f"v{i}") for i in range(n)]
+    g.add(*juncs, bg.IField("M", _random_spd(rng, n)))
+    c_ports = sorted(rng.sample(range(n), rng.randint(1, n)))
+    r_ports = sorted(rng.sample(range(n), rng.randint(1, n)))
+    g.add(bg.CField("K", stiffness=_random_spd(rng, len(c_ports))),
+          bg.RField("D", _random_spd(rng, len(r_ports))))
+    for i in range(n):
+        g.connect(juncs[i], "M")
+    for i in c_ports:
+        g.connect(juncs[i], "K")
+    for i in r_ports:
+        g.connect(juncs[i], "D")
+    for i in range(n):
+        extra = rng.choice(["Se", "I", "C", "R", None])
+        if extra == "Se":
+            g.add(bg.Se(f"F{i}"))
+            g.connect(f"F{i}", juncs[i])
+        elif extra:
+            g.add(getattr(bg, extra)(f"{extra.lower()}{i}"))
+            g.connect(juncs[i], f"{extra.lower()}{i}")
+    model = bg.derive(g)
+    ph = port_hamiltonian(model)
+    structure_ok(ph)
+    assert rebuilds(ph, model), f"seed {seed}"
+    vals = {p.name: rng.uniform(0.2, 5.0) for p in ph.parameters}
+    assert ph.is_passive(vals), f"seed {seed}"
+    check_power_balance(model, ph)
+
+
+def test_refuses_nonlinear_resistive_field_and_nonlinear_field_in_derivative_causality():
+    f1, f2, p1, p2 = sympy.symbols("f1 f2 p1 p2")
+    g = mass_with(bg.Se("F"), bg.One("w"), bg.I("m2"),
+                  bg.RField("D", law=(f1**3, f2), variables=(f1, f2)),
+                  edges=[("F", "v"), ("v", "D"), ("w", "D"), ("w", "m2")])
+    assert "linear RField" in refused(g, r"RF:D: the nonlinear law")
+    g = bg.BondGraph("nl")
+    g.add(bg.Se("F"), bg.One("v"),
+          bg.IField("M", energy=p1**2 / 2 + p2**2 / 2 + p1**4 * p2**4, variables=(p1, p2)))
+    for t, h in [("F", "v"), ("v", "M"), ("v", "M")]:
+        g.connect(t, h)
+    with pytest.raises(bg.FieldError, match=r"IF:M: the causality puts port 2 in derivative"):
+        bg.derive(g)
