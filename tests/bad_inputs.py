@@ -366,6 +366,63 @@ def output_string(d):
     bg.derive(msd(), outputs={"y": "p_m/m"})
 
 
+# ------------------------------------------------------------------ multiport fields
+@case("fields", "IField with a 2x3 mass matrix", bg.FieldError, r"IF:M: the mass matrix is 2x3")
+def field_not_square(d):
+    bg.IField("M", [[1, 0, 0], [0, 1, 0]])
+
+
+@case("fields", "IField with a 3x3 mass matrix and 2 bonds", bg.ModelStructureError,
+      r"IF:M has 2 bonds; expected 3")
+def field_wrong_bond_count(d):
+    g = bg.BondGraph("short")
+    g.add(bg.Se("F"), bg.Se("G"), bg.IField("M", np.eye(3)))
+    g.connect("F", "M")
+    g.connect("G", "M")
+    bg.derive(g)
+
+
+@case("fields", "IField with a non-symmetric mass matrix", bg.FieldError,
+      r"IF:M: the mass matrix is not symmetric: entry \[2,1\] is 2 but \[1,2\] is 1")
+def field_not_symmetric(d):
+    bg.IField("M", [[3, 1], [2, 3]])
+
+
+@case("fields", "CField with a stiffness matrix that is not positive definite", bg.FieldError,
+      r"CF:K: the stiffness matrix is not positive definite \(smallest eigenvalue -1\)")
+def field_not_definite(d):
+    bg.CField("K", stiffness=[[1, 2], [2, 1]])
+
+
+@case("fields", "IField([[m, c], [c, m]]).check_values({m: 1, c: 2})", bg.FieldError,
+      r"IF:M: the mass matrix is not positive definite")
+def field_values_not_definite(d):
+    m, c = sympy.symbols("m c", positive=True)
+    bg.IField("M", [[m, c], [c, m]]).check_values({"m": 1.0, "c": 2.0})
+
+
+@case("fields", "nonlinear kinetic energy to invert on a port driven by a flow source",
+      bg.FieldError, r"IF:M: the causality puts port 2 in derivative causality.*solutions")
+def field_law_not_invertible(d):
+    p1, p2 = sympy.symbols("p1 p2")
+    g = bg.BondGraph("nl")
+    g.add(bg.Se("F"), bg.Sf("V"),
+          bg.IField("M", energy=p1**2 / 2 + p2**4 / 4 + p1 * p2**2, variables=(p1, p2)))
+    g.connect("F", "M")
+    g.connect("V", "M")
+    bg.derive(g)
+
+
+@case("fields", "output bg.flow('M') of a two-port field (no port)", bg.OutputError,
+      r"IF:M has 2 ports, so its flow is ambiguous; name one, e.g. bg.flow\('M', port=1\)")
+def field_ambiguous_signal(d):
+    g = bg.BondGraph("amb")
+    g.add(bg.Se("F"), bg.Se("G"), bg.IField("M", np.eye(2)))
+    g.connect("F", "M")
+    g.connect("G", "M")
+    bg.derive(g, outputs={"v": bg.flow("M")})
+
+
 # ------------------------------------------------------------------ parameter values
 @case("values", "plant({... 'bb': 6.0}) (misspelled name)", bg.ParameterValueError,
       r"unknown parameter 'bb' \(did you mean 'b'\?\).*Valid names: b, c, m")
