@@ -1,5 +1,8 @@
 """Issue 16, item 2: every compiled object pickles, and a round trip gives the same numbers.
 
+Sparse plants (``scipy.sparse`` CSR matrices) and :class:`SparseBatchStateSpace`
+(patterns and a read-only ``(P, nnz)`` value array) too (item 1).
+
 ``NumericModel`` and ``NumericDynamics`` travel as their model and
 expressions and are lambdified again on first use after loading (through a
 per-process cache); ``NumericStateSpace``, ``BatchStateSpace`` and
@@ -23,7 +26,8 @@ from sympy.utilities.lambdify import implemented_function
 
 import bondgraph as bg
 from bondgraph.numeric import (BatchStateSpace, NotPicklableError, NumericStateSpace,
-                               SimulationResult, compile_dynamics, compile_plant, simulate)
+                               SimulationResult, SparseBatchStateSpace, compile_dynamics,
+                               compile_plant, simulate)
 from bondgraph.numeric import _compile
 
 VALUES = {"Ra": 2.0, "La": 0.5, "K": 0.1, "J": 0.02, "b": 0.2}
@@ -65,13 +69,22 @@ def roundtrip(obj):
     return pickle.loads(pickle.dumps(obj))
 
 
+def _same_matrix(Ma, Mb) -> bool:
+    """Equal bit for bit, of the same kind (dense or CSR), and read-only."""
+    if a_sparse := hasattr(Ma, "tocsr"):
+        return (hasattr(Mb, "tocsr") and np.array_equal(Ma.indptr, Mb.indptr)
+                and np.array_equal(Ma.indices, Mb.indices) and np.array_equal(Ma.data, Mb.data)
+                and not Mb.data.flags.writeable)
+    return not a_sparse and np.array_equal(Ma, Mb) and not Mb.flags.writeable
+
+
 def same_plant(a: NumericStateSpace, b: NumericStateSpace) -> None:
+    assert a.is_sparse == b.is_sparse
     for name in "ABCD":
-        assert np.array_equal(getattr(a, name), getattr(b, name)), name
-        assert not getattr(b, name).flags.writeable
+        assert _same_matrix(getattr(a, name), getattr(b, name)), name
     assert len(a.D_derivatives) == len(b.D_derivatives)
     for Ma, Mb in zip(a.D_derivatives + a.state_shift, b.D_derivatives + b.state_shift):
-        assert np.array_equal(Ma, Mb) and not Mb.flags.writeable
+        assert _same_matrix(Ma, Mb)
     assert (a.state_names, a.input_names, a.output_names, a.name) == \
         (b.state_names, b.input_names, b.output_names, b.name)
     assert dict(a.parameters) == dict(b.parameters)
@@ -130,6 +143,26 @@ def test_plants_and_batches_round_trip_read_only():
     same_plant(improper, roundtrip(improper))
 
 
+@pytest.mark.parametrize("build, values", [(dc_motor, VALUES), (shaker, {"m": 2.0, "b": 0.5})])
+def test_sparse_plants_and_batches_round_trip(build, values):
+    nm = compile_plant(build(), sparse=True)
+    back_nm = roundtrip(nm)
+    plant = nm.plant(values)
+    assert plant.is_sparse
+    same_plant(plant, back_nm.plant(values))
+    same_plant(plant, roundtrip(plant))
+    omega = [0.0, 1.0, 10.0]
+    assert np.array_equal(plant.frequency_response(omega), roundtrip(plant).frequency_response(omega),
+                          equal_nan=True)
+    batch = nm.batch({k: np.linspace(v, 2 * v, 3) for k, v in values.items()})
+    bb = roundtrip(batch)
+    assert isinstance(bb, SparseBatchStateSpace) and len(bb) == 3 and bb.patterns == batch.patterns
+    for name in ("values", "parameter_values"):
+        assert np.array_equal(getattr(batch, name), getattr(bb, name))
+        assert not getattr(bb, name).flags.writeable
+    same_plant(batch[2], bb[2])
+
+
 def test_dynamics_and_simulation_results_round_trip():
     dyn = compile_dynamics(duffing())
     blob = pickle.dumps(dyn)
@@ -176,3 +209,16 @@ def test_everything_crosses_a_process_pool_unchanged():
         assert np.array_equal(plant.frequency_response(omega), remote_frf.result(), equal_nan=True)
         assert np.array_equal(batch.frequency_response(omega), remote_batch_frf.result(), equal_nan=True)
         assert np.array_equal(result["x"], remote_history.result())
+
+
+def test_sparse_objects_cross_a_process_pool_unchanged():
+    nm = compile_plant(dc_motor(), sparse=True)
+    plant, batch = nm.plant(VALUES), nm.batch(BATCH)
+    omega = [0.0, 1.0, 10.0]
+    with ProcessPoolExecutor(2, mp_context=multiprocessing.get_context("spawn")) as pool:
+        remote_plant = pool.submit(operator.methodcaller("plant", VALUES), nm)
+        remote_batch = pool.submit(operator.methodcaller("batch", BATCH), nm)
+        remote_frf = pool.submit(operator.methodcaller("frequency_response", omega), batch)
+        same_plant(plant, remote_plant.result())
+        assert np.array_equal(batch.values, remote_batch.result().values)
+        assert np.array_equal(batch.frequency_response(omega), remote_frf.result(), equal_nan=True)
