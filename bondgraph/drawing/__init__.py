@@ -53,7 +53,7 @@ def _register_displays() -> None:
     from ..model import Model
 
     for cls in (BondGraph, AugmentedBondGraph, Model):
-        cls._repr_svg_ = _repr_svg_
+        setattr(cls, "_repr_svg_", _repr_svg_)
 
 
 _register_displays()
