@@ -8,6 +8,9 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import sympy
+from sympy.core.basic import Basic
+from sympy.core.containers import Dict, Tuple
+from sympy.core.sorting import _node_count
 
 from .errors import NonlinearModelError
 from .signals import t as T_SYM
@@ -112,7 +115,9 @@ def _linear_form(exprs, x, u, model: Model, what: str, lhs: str, ud=None):
     bad = (set(model.input_derivatives) - set(ud_cols)) | {T_SYM}
     entries: tuple[dict, dict, dict] = ({}, {}, {})
     for i, ex in enumerate(exprs):
-        free = ex.free_symbols
+        terms = sympy.Add.make_args(ex)
+        term_free = [_free_symbols(term) for term in terms]
+        free = set().union(*term_free)
         if free & bad:
             hint = ""
             if free & set(model.input_derivatives):
@@ -131,8 +136,8 @@ def _linear_form(exprs, x, u, model: Model, what: str, lhs: str, ud=None):
                     "model constant loads as sources (inputs)")
             continue
         coeffs: dict[sympy.Symbol, list] = {}
-        for term in sympy.Add.make_args(ex):
-            vs = term.free_symbols & variables
+        for term, tfree in zip(terms, term_free):
+            vs = tfree & variables
             if not vs:
                 raise NonlinearModelError(
                     f"model {model.name!r}: {what} {i + 1} ({lhs}) has the constant term {term}; "
@@ -144,8 +149,8 @@ def _linear_form(exprs, x, u, model: Model, what: str, lhs: str, ud=None):
                     continue
                 if term.is_Mul and term.args.count(v) == 1:
                     rest = [a for a in term.args if a != v]
-                    if not any(a.free_symbols & variables for a in rest):
-                        coeffs.setdefault(v, []).append(sympy.Mul(*rest))
+                    if not any(_free_symbols(a) & variables for a in rest):
+                        coeffs.setdefault(v, []).append(_mul_rest(rest))
                         continue
             for v in vs:  # general term: differentiate, then check linearity
                 d = sympy.diff(term, v)
@@ -160,12 +165,91 @@ def _linear_form(exprs, x, u, model: Model, what: str, lhs: str, ud=None):
                     f"model {model.name!r}: {what} {i + 1} ({lhs}) has the constant term "
                     f"{rest_term}; model constant loads as sources (inputs)")
         for v, parts in coeffs.items():
-            c = sympy.Add(*parts)
+            c = parts[0] if len(parts) == 1 else sympy.Add(*parts)
             if c != 0:
                 k, j = col[v]
                 entries[k][(i, j)] = c
-    mats = (sympy.ImmutableSparseMatrix(len(exprs), len(x), entries[0]),
-            sympy.ImmutableSparseMatrix(len(exprs), len(u), entries[1]))
+    mats = (sparse_matrix(len(exprs), len(x), entries[0]),
+            sparse_matrix(len(exprs), len(u), entries[1]))
     if ud is None:
         return mats
-    return mats + (sympy.ImmutableSparseMatrix(len(exprs), len(ud_cols), entries[2]),)
+    return mats + (sparse_matrix(len(exprs), len(ud_cols), entries[2]),)
+
+
+def _free_symbols(e: sympy.Basic) -> set:
+    """``e.free_symbols`` without the recursion for symbols, numbers and ``x**n``."""
+    if e.is_Symbol:
+        return {e}
+    if e.is_Number:
+        return set()
+    if e.is_Mul:
+        out = set()
+        for a in e.args:
+            if a.is_Symbol:
+                out.add(a)
+            elif a.is_Number:
+                continue
+            elif a.is_Pow and a.base.is_Symbol and a.exp.is_Number:
+                out.add(a.base)
+            else:
+                out |= a.free_symbols
+        return out
+    return e.free_symbols
+
+
+def _mul_rest(rest: list) -> sympy.Expr:
+    """``Mul(*rest)`` for the factors left of a canonical product less one factor.
+
+    They are already combined and sorted, so the product is rebuilt without
+    ``Mul.flatten``, except for a number times a sum, which sympy distributes.
+    """
+    if len(rest) == 1:
+        return rest[0]
+    if len(rest) == 2 and rest[0].is_Number and rest[1].is_Add:
+        return sympy.Mul(*rest)
+    return sympy.Mul._from_args(rest)
+
+
+def sparse_matrix(rows: int, cols: int, entries: dict) -> sympy.ImmutableSparseMatrix:
+    """``ImmutableSparseMatrix(rows, cols, entries)`` without its sort by printed form.
+
+    sympy orders the entries of the matrix's ``Dict`` argument with
+    ``ordered``: by node count, ties broken by ``default_sort_key``, which
+    for the unique ``(i, j)`` keys is the row-major position (the entries
+    are never compared).  On a 10,000-cell chain that key (it prints every
+    entry) was half the time of ``state_space()``.  This builds the same
+    object (same ``args``, hash, representation) with the key
+    ``(node count, i, j)``; any other sympy layout falls back to the
+    constructor.
+
+    Examples
+    --------
+    >>> import sympy
+    >>> a = sympy.Symbol("a")
+    >>> M = sparse_matrix(2, 2, {(0, 1): a + 1, (1, 0): sympy.Integer(-2)})
+    >>> M == sympy.ImmutableSparseMatrix(2, 2, {(0, 1): a + 1, (1, 0): -2})
+    True
+    >>> M.args == sympy.ImmutableSparseMatrix(2, 2, {(0, 1): a + 1, (1, 0): -2}).args
+    True
+    """
+    cls = sympy.ImmutableSparseMatrix
+    try:
+        entries = {k: sympy.sympify(v, strict=True) for k, v in entries.items()}
+        rep = cls._smat_to_DomainMatrix(rows, cols, entries)
+        smat = rep.to_sympy().to_dok()
+        keyed = sorted(((_node_count(v), i, j, v) for (i, j), v in smat.items()),
+                       key=_first3)
+        new, integer = Basic.__new__, sympy.Integer
+        items = [new(Tuple, new(Tuple, integer(i), integer(j)), v) for _, i, j, v in keyed]
+        d = Basic.__new__(Dict, *items)
+        d.elements = frozenset(items)
+        d._dict = dict(items)
+        obj = Basic.__new__(cls, sympy.Integer(rows), sympy.Integer(cols), d)
+        obj._rows, obj._cols, obj._rep = rows, cols, rep
+    except (AttributeError, TypeError):  # pragma: no cover - a sympy without these internals
+        return cls(rows, cols, entries)
+    return obj
+
+
+def _first3(t: tuple) -> tuple:
+    return t[:3]
