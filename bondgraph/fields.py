@@ -78,91 +78,20 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import ClassVar, Optional, Sequence
 
-import numpy as np
 import sympy
 
-from ._fields_algebra import FieldError, check_definite, field_matrix, inverse, partial_solve, \
-    solve_law
-from .errors import OutputError, ParameterValueError
-from .protocol import (ARBITRARY, DERIVATIVE, INTEGRAL, RESISTIVE, STORAGE, Choice, Element,
-                       LocalVariables)
+from ._fields_algebra import FieldError, field_matrix, inverse, partial_solve, solve_law
+from ._fields_base import Field, _function, _variables
+from ._fields_resistive import RField
+from .protocol import DERIVATIVE, INTEGRAL, STORAGE, Choice, LocalVariables
 from .signals import LawVariable, displacement, momentum
-from .values import to_expr
 
-__all__ = ["FieldError", "StorageField", "IField", "CField", "ICField", "RField"]
-
-
-def _variables(energy, variables, n_hint: Optional[int], *, owner: str, prefixes: Sequence[str],
-               what: str) -> tuple[sympy.Expr, tuple]:
-    """The user's function rewritten in the field's own variables ``p1, q2, ...``."""
-    if variables is None:
-        raise FieldError(f"{owner}: {what}= needs variables=(...): the sympy symbols it is "
-                         "written in, one per port in port order")
-    vs = tuple(variables)
-    if not vs or not all(isinstance(v, sympy.Symbol) for v in vs) or len(set(vs)) != len(vs):
-        raise FieldError(f"{owner}: variables must be distinct sympy symbols, one per port; "
-                         f"got {variables!r}")
-    if n_hint is not None and len(vs) != n_hint:
-        raise FieldError(f"{owner}: {len(vs)} variables for {n_hint} ports")
-    own = tuple(LawVariable(f"{prefixes[k]}{k + 1}") for k in range(len(vs)))
-    return own, vs
-
-
-def _function(value, vs, own, *, owner: str, what: str) -> sympy.Expr:
-    expr = to_expr(value, owner=owner, what=what, law=True)
-    if expr is None:  # pragma: no cover - caller checked
-        raise FieldError(f"{owner}: no {what}")
-    expr = expr.xreplace(dict(zip(vs, own)))
-    from ._fields_algebra import _no_signals
-    _no_signals(expr, owner, what)
-    return expr
+__all__ = ["FieldError", "Field", "StorageField", "IField", "CField", "ICField", "RField",
+           "check_fields"]
 
 
 @dataclass(frozen=True, eq=False)
-class _Field(Element):
-    """A field: ``n`` ports, each a bond; signals need a port."""
-
-    #: one character per port: 'I', 'C' (storage) or 'R'
-    port_kinds: str = field(default="", init=False, repr=False)
-
-    @property
-    def bonds(self) -> tuple[int, Optional[int]]:   # type: ignore[override]
-        n = len(self.port_kinds)
-        return (n, n)
-
-    @property
-    def ports(self) -> int:
-        """Number of ports."""
-        return len(self.port_kinds)
-
-    def signal_port(self, variable: str) -> Optional[tuple[int, bool]]:
-        raise OutputError(
-            f"signal {variable}[{self.name}]: {self.label()} has {self.ports} ports, so its "
-            f"{variable} is ambiguous; name one, e.g. bg.{variable}({self.name!r}, port=1) "
-            f"(ports 1..{self.ports}, in the order of its bonds)")
-
-    def energy_variable(self, variable: str) -> Optional[int]:
-        self.signal_port(variable)     # raises: ambiguous
-        return None                    # pragma: no cover
-
-    def _port(self, variable: str, port: int) -> int:
-        if isinstance(port, bool) or not isinstance(port, int) or not 1 <= port <= self.ports:
-            raise OutputError(f"signal {variable}[{self.name}][{port}]: {self.label()} has ports "
-                              f"1..{self.ports}; got port {port!r}")
-        return port - 1
-
-    def port_signal(self, variable: str, port: int) -> Optional[tuple[int, bool]]:
-        return self._port(variable, port), variable == "flow"
-
-    def drawing_label(self) -> tuple[str, str]:
-        return self.kind, self.name
-
-    def _sides(self, effort_in: Sequence[bool]) -> tuple[list[int], list[int]]:
-        raise NotImplementedError
-
-
-@dataclass(frozen=True, eq=False)
-class StorageField(_Field):
+class StorageField(Field):
     """Base of the storage fields: I-like and C-like ports, a quadratic or general energy.
 
     Attributes
@@ -330,38 +259,6 @@ class StorageField(_Field):
                     f"{self.energy}; the reduced form needs a linear (matrix) field there")
         return None
 
-    def check_values(self, values) -> None:
-        """Check the matrix positive definite at parameter ``values`` (name -> number).
-
-        Raises
-        ------
-        FieldError
-            Naming the field and its matrix.
-        ParameterValueError
-            A parameter of the matrix has no value.
-
-        Examples
-        --------
-        >>> import bondgraph as bg
-        >>> m, c = sympy.symbols("m c", positive=True)
-        >>> bg.IField("M", [[m, c], [c, m]]).check_values({"m": 1.0, "c": 2.0})
-        Traceback (most recent call last):
-        ...
-        bondgraph._fields_algebra.FieldError: IF:M: the mass matrix is not positive definite (smallest eigenvalue -1); ...
-        """
-        if self.matrix is None:
-            return
-        sub = {}
-        for s in self.matrix.free_symbols:
-            key = s.name if s.name in values else s
-            if key not in values:
-                raise ParameterValueError(f"{self.label()}: parameter {s.name!r} of its "
-                                          f"{self.matrix_name} has no value")
-            sub[s] = values[key]
-        arr = np.array(self.matrix.xreplace(sub).tolist(), dtype=float)
-        check_definite(arr, owner=self.label(), what=self.matrix_name)
-
-
 @dataclass(frozen=True, eq=False)
 class IField(StorageField):
     """Inertance field: ``n`` I-like ports, ``p = M f`` or a kinetic energy ``T(p)``.
@@ -486,112 +383,35 @@ class ICField(StorageField):
                              f"letter per port (e.g. 'IC'); got {kinds!r}")
         self._setup(kinds, matrix=matrix, what="Hessian", energy=energy, variables=variables)
 
+def check_fields(model, values) -> None:
+    """Check every field of ``model`` (a :class:`~bondgraph.Model` or a graph) at ``values``.
 
-@dataclass(frozen=True, eq=False)
-class RField(_Field):
-    """Resistive field: ``e = R f`` with a resistance matrix, or ``e_k = law_k(f)``.
+    Each field's matrix must be positive definite (an RField's positive
+    semi-definite) at the given parameter values; the symbolic checks at
+    build time cannot see values.
 
-    Each port takes either causality (arbitrary, as a one-port R); ports that
-    receive effort are solved for their flows (linear: a Schur complement;
-    nonlinear: :class:`FieldError` when the law cannot be inverted there).
-
-    Parameters
-    ----------
-    name : str
-    resistance : square matrix, optional
-        Symmetric, positive semi-definite when numeric.
-    law : sequence of sympy expressions, optional
-        The effort of each port as a function of the flows into the ports.
-    variables : sequence of sympy.Symbol
-        The flows ``law`` is written in, one per port.
+    Raises
+    ------
+    FieldError
+        Naming the field and its matrix.
 
     Examples
     --------
     >>> import bondgraph as bg
-    >>> d = bg.RField("D", [[3, 1], [1, 2]])
-    >>> d.ports, d.drawing_label()
-    (2, ('RF', 'D'))
+    >>> m, c = sympy.symbols("m c", positive=True)
+    >>> g = bg.BondGraph("pair")
+    >>> g.add(bg.Se("F1"), bg.Se("F2"), bg.IField("M", [[m, c], [c, m]]))
+    >>> _ = g.connect("F1", "M"); _ = g.connect("F2", "M")
+    >>> check_fields(bg.derive(g), {"m": 2.0, "c": 1.0})
+    >>> check_fields(g, {"m": 1.0, "c": 3.0})
+    Traceback (most recent call last):
+    ...
+    bondgraph._fields_algebra.FieldError: IF:M: the mass matrix is not positive definite (smallest eigenvalue -2); ...
     """
+    from .flatten import flatten
 
-    resistance: object = None
-    matrix: Optional[sympy.ImmutableMatrix] = field(default=None, init=False)
-    laws: tuple = field(default=(), init=False, repr=False)
-    variables: tuple = field(default=(), init=False, repr=False)
-    kind: ClassVar[str] = "RF"
-    drawing_role: ClassVar[str] = "dissipative"
-
-    def __init__(self, name: str, resistance: object = None, *, law: object = None,
-                 variables: Optional[Sequence[sympy.Symbol]] = None) -> None:
-        object.__setattr__(self, "name", name)
-        object.__setattr__(self, "resistance", resistance)
-        self.__post_init__()
-        owner = self.label()
-        if (resistance is None) == (law is None):
-            raise FieldError(f"{owner}: give either a resistance matrix or law=, "
-                             f"{'not both' if law is not None else 'one of them'}")
-        if resistance is not None:
-            M = field_matrix(resistance, owner=owner, what="resistance matrix", definite=False)
-            object.__setattr__(self, "matrix", M)
-            object.__setattr__(self, "port_kinds", "R" * M.rows)
-            object.__setattr__(self, "variables",
-                               tuple(LawVariable(f"f{k + 1}") for k in range(M.rows)))
-            return
-        laws = tuple(law) if isinstance(law, (list, tuple)) else None
-        if not laws:
-            raise FieldError(f"{owner}: law= must be a sequence of expressions, the effort of "
-                             "each port; got {law!r}")
-        own, vs = _variables(law, variables, len(laws), owner=owner,
-                             prefixes="f" * len(laws), what="law")
-        object.__setattr__(self, "laws", tuple(_function(x, vs, own, owner=owner, what="law")
-                                               for x in laws))
-        object.__setattr__(self, "variables", own)
-        object.__setattr__(self, "port_kinds", "R" * len(laws))
-        jac = sympy.Matrix(self.laws).jacobian(own)
-        if not jac.free_symbols & set(own) and all(e.xreplace({v: 0 for v in own}) == 0
-                                                   for e in self.laws):
-            object.__setattr__(self, "matrix", field_matrix(
-                jac, owner=owner, what="resistance matrix (Jacobian of the law)", definite=False))
-
-    def causal_choices(self, prefer_derivative: bool) -> Sequence[Choice]:
-        return tuple(Choice(p, False, f"arbitrary choice for {self.label()} port {p + 1}",
-                            RESISTIVE) for p in range(self.ports))
-
-    def causal_class(self, effort_in: Sequence[bool], free: Sequence[bool]) -> Optional[str]:
-        return ARBITRARY if any(free) else None
-
-    def output_dependencies(self, effort_in: Sequence[bool],
-                            causality: Optional[str]) -> Sequence[Sequence[int]]:
-        every = tuple(range(self.ports))
-        return tuple(every for _ in every)
-
-    def _solve(self, local: LocalVariables) -> tuple[list, list]:
-        """(flows into the ports, efforts)."""
-        f_in = {p: local.sign(p) * local.input(p) for p in range(self.ports)
-                if not local.effort_in(p)}
-        e_in = {p: local.input(p) for p in range(self.ports) if local.effort_in(p)}
-        if self.matrix is not None:
-            return partial_solve(self.matrix, f_in, e_in)
-        own = self.variables
-        f = [f_in.get(p) for p in range(self.ports)]
-        if e_in:
-            known = {own[p]: v for p, v in f_in.items()}
-            b = sorted(e_in)
-            sol = solve_law([self.laws[p].xreplace(known) - e_in[p] for p in b],
-                            [own[p] for p in b], owner=self.label(), ports=[p + 1 for p in b],
-                            what="effort-in causality (flow out)")
-            for p in b:
-                f[p] = sol[own[p]]
-        full = dict(zip(own, f))
-        return f, [e_in[p] if p in e_in else self.laws[p].xreplace(full)
-                   for p in range(self.ports)]
-
-    def output(self, local: LocalVariables, port: int) -> sympy.Expr:
-        f, e = self._solve(local)
-        return local.sign(port) * f[port] if local.effort_in(port) else e[port]
-
-    def hamiltonian_error(self, dependent: bool) -> Optional[str]:
-        if self.matrix is None:
-            return (f"{self.label()}: the nonlinear law {list(self.laws)} makes the "
-                    "dissipation depend on the state; the port-Hamiltonian form needs a "
-                    "linear RField (a resistance matrix)")
-        return None
+    flat = model.augmented.flat if hasattr(model, "augmented") else flatten(model)
+    for el in flat.elements:
+        check = getattr(el, "check_values", None)    # the fields (and elements like them)
+        if check is not None:
+            check(values)
