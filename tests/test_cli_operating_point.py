@@ -239,3 +239,19 @@ def test_nonlinear_model_without_a_point_names_the_options(capsys, tmp_path, fil
     code, _, err = run(capsys, "export", files["pendulum"], "-o", tmp_path / "out" / "p.npz")
     assert code == 1 and "--operating-point FILE" in err and "--trim" in err
     assert list((tmp_path / "out").iterdir()) == []
+
+
+def test_point_that_holds_only_at_the_parameter_values(capsys, tmp_path, files):
+    """Under a torque T the equilibrium theta0 = asin(T/(m g l)) depends on the parameters."""
+    T = 1.0
+    mgl, J, b = PEND["m"] * PEND["g"] * PEND["l"], PEND["J"], PEND["b"]
+    theta0 = math.asin(T / mgl)
+    path = op_file(tmp_path, f"[states]\np_J = 0.0\nq_grav = {theta0!r}\n[inputs]\nT = {T!r}\n")
+    code, _, err = run(capsys, "tf", files["pendulum"], "--operating-point", path)
+    assert code == 1 and "not an equilibrium" in err and "--numeric" in err
+    code, out, err = run(capsys, "tf", files["pendulum"], "--operating-point", path, "--numeric")
+    assert code == 0, err
+    # 1/(J s^2 + b s + m g l cos(theta0)): complex poles -b/(2J) +- j sqrt(4 J k - b^2)/(2J)
+    k = mgl * math.cos(theta0)
+    wn = math.sqrt(k / J)
+    assert f"{wn:.4g}" in out and f"{b / (2 * math.sqrt(k * J)):.4g}" in out, out

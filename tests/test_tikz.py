@@ -86,6 +86,17 @@ def hostile_labels():
     return connect_all(g, [(F, v), (v, "m__x"), (v, "r_0")])
 
 
+def twin_motors():
+    """Two motor sub-models on one shaft, drawn as boxes with their port names."""
+    m1 = bg.BondGraph("m1")
+    V, ia, w = bg.Se("V"), bg.One("ia"), bg.One("w")
+    m1.add(V, ia, w, bg.R("Ra"), bg.I("La"), bg.GY("K"), bg.Port("shaft"))
+    connect_all(m1, [(V, ia), (ia, "Ra"), (ia, "La"), (ia, "K"), ("K", w), (w, "shaft")])
+    top = bg.BondGraph("twin")
+    top.add(m1, m1.copy("m2"), bg.One("shaft"), bg.I("J"))
+    return connect_all(top, [("m1.shaft", "shaft"), ("m2.shaft", "shaft"), ("shaft", "J")])
+
+
 def hostile_names():
     """The codegen corpus's names that elements accept (underscores, __LINE__, 300 L's, ...)."""
     names = accepted_element_names(corpus("marker"))
@@ -162,10 +173,11 @@ def figures(tmp_path_factory):
     objects["geared_motor"] = geared_motor()
     objects["hostile_labels"] = hostile_labels()
     objects["hostile_names"] = hostile_names()
+    objects["twin_boxes"] = twin_motors()
     texs, sources = [], {}
     for name, obj in objects.items():
         path = d / f"{name}.tex"
-        sources[name] = draw(obj, path)
+        sources[name] = draw(obj, path, expand=name != "twin_boxes")
         assert path.read_text(encoding="ascii") == sources[name]
         texs.append(path)
     compiled = compile_all(texs) if PDFLATEX else {}

@@ -82,7 +82,13 @@ def cmd_tf(args) -> None:
                     for M in (ss.A, ss.B, ss.C, ss.D)]
         values = {}
     elif _linear(args):                                      # symbolic, at the file's point
-        ss = model.linearize(*_op.file_point(args, model, point))
+        x0, u0 = _op.file_point(args, model, point)
+        try:
+            ss = model.linearize(x0, u0)
+        except NonlinearModelError as exc:
+            message = str(exc).split("; pass equilibrium=False")[0]
+            raise CLIError(f"{message}; an operating point that holds only at some parameter "
+                           "values is checked there with --numeric") from None
         matrices = [ss.A, ss.B, ss.C, ss.D]
     else:
         try:
