@@ -6,14 +6,17 @@ dpi, and ``y`` points down), so every shape sits where the SVG and PNG put
 it.  Text takes the document's fonts (``\\small`` labels, ``\\scriptsize``
 bond numbers), so a figure ``\\input`` into a paper matches its text.
 
-:func:`scene_to_tikz` gives either a whole document that ``pdflatex``,
-``xelatex`` or ``lualatex`` compiles on its own (the ``article`` class and
+:func:`scene_to_tikz` gives either a whole document that ``pdflatex`` or
+``lualatex`` compiles on its own (the ``article`` class and
 ``tikz``, nothing else: Debian's ``texlive-latex-base`` and
-``texlive-pictures``; the page is cropped to the picture), or, with
-``standalone=False``, the bare ``tikzpicture`` for ``\\input``.
+``texlive-pictures``; the page is cropped to the picture, as the
+``standalone`` class would, which Debian ships only in
+``texlive-latex-extra``), or, with ``standalone=False``, the bare
+``tikzpicture`` for ``\\input``.
 
 Every text that reaches LaTeX goes through :func:`tex_escape`: the ten
-special characters of LaTeX are escaped, and characters LaTeX cannot be
+special characters of LaTeX are escaped (and ``<``, ``>``, ``|``, ``"``,
+which the default font encoding prints as other glyphs), characters LaTeX cannot be
 relied on to typeset (control characters, anything outside printable ASCII)
 are refused with a :class:`~bondgraph.drawing.source.DrawingError` naming
 the text.  Each bond's shapes carry a comment ``% bond N: tail -> head``,
@@ -207,7 +210,7 @@ def _picture(scene: Scene) -> list[str]:
     return out
 
 
-_DOCUMENT_HEAD = r"""% A document that compiles on its own (pdflatex, xelatex or lualatex): the
+_DOCUMENT_HEAD = r"""% A document that compiles on its own (pdflatex or lualatex): the
 % article class and tikz only; the page is cropped to the picture.
 \documentclass{article}
 \usepackage{tikz}
