@@ -103,17 +103,24 @@ def hostile_names():
     return hostile_graph(["k3"] * len(names), graph_name="__LINE__", element_names=names)
 
 
+FORMULATIONS = ("paper", "system")     # of models/appendages.py and models/flexcam.py
+
+
 def model_variants():
     """Every model of models/ in each formulation its model() offers."""
+    import inspect
+
     sys.path.insert(0, str(ROOT / "models"))
     out = {}
     for path in sorted((ROOT / "models").glob("*.py")):
         mod = __import__(path.stem)
-        out[path.stem] = mod.model().graph
-    import flexcam
+        if "formulation" in inspect.signature(mod.model).parameters:
+            for form in FORMULATIONS:
+                out[f"{path.stem}_{form}"] = mod.model(formulation=form).graph
+        else:
+            out[path.stem] = mod.model().graph
     import srv02
 
-    out["flexcam_system"] = flexcam.model(formulation="system").graph
     out["srv02_no_inductance"] = srv02.model(inductance=False).graph
     out["srv02_load_inertia"] = srv02.model(load_inertia=True).graph
     return out
@@ -187,7 +194,7 @@ def figures(tmp_path_factory):
 # ----------------------------------------------------------------------------- tests
 @needs_pdflatex
 def test_every_figure_compiles_and_is_not_blank(figures):
-    assert len(figures) >= 9
+    assert len(figures) >= 12
     for name, (_, _, result) in figures.items():
         assert result.ok, f"{name} did not compile:\n{result.log}"
         check_not_blank(page_image(result.pdf), name)
