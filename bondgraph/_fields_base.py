@@ -4,7 +4,7 @@ value checks, and the user's energy or law rewritten in the field's own variable
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Optional, Sequence
+from typing import ClassVar, Optional, Sequence
 
 import numpy as np
 import sympy
@@ -48,6 +48,8 @@ class Field(Element):
     """A field: ``n`` ports, each a bond; signals need a port."""
 
     #: one character per port: 'I', 'C' (storage) or 'R'
+    #: whether the matrix must be positive definite (an RField's: semi-definite)
+    definite: ClassVar[bool] = True
     port_kinds: str = field(default="", init=False, repr=False)
 
     @property
@@ -116,4 +118,4 @@ class Field(Element):
                                           f"{name} has no value")
             sub[s] = values[key]
         arr = np.array(matrix.xreplace(sub).tolist(), dtype=float)
-        check_definite(arr, owner=self.label(), what=name, definite=self.kind != "RF")
+        check_definite(arr, owner=self.label(), what=name, definite=self.definite)

@@ -46,6 +46,7 @@ class RField(Field):
     laws: tuple = field(default=(), init=False, repr=False)
     variables: tuple = field(default=(), init=False, repr=False)
     kind: ClassVar[str] = "RF"
+    definite: ClassVar[bool] = False
     drawing_role: ClassVar[str] = "dissipative"
 
     def __init__(self, name: str, resistance: object = None, *, law: object = None,

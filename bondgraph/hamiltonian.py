@@ -45,6 +45,15 @@ Then ``J = (F - F^T)/2``, ``R = -(F + F^T)/2``, ``G = (B + C_z^T)/2``,
 ``P = (C_z^T - B)/2``, ``S = (D + D^T)/2``, ``N = (D^T - D)/2``.  The
 rebuilt ``x'`` is checked symbolically against the model's ``rhs``.
 
+The elements say what they store and why they would prevent the form
+(:mod:`bondgraph.protocol`, "Energy"): a one-port I or C its ``p`` or ``q``
+and ``int phi``; a multiport field (:mod:`bondgraph.fields`) its momenta and
+displacements and ``H = p^T M^-1 p / 2`` (``IField``), ``q^T K q / 2``
+(``CField``), ``x^T Q x / 2`` (``ICField``) or its energy function; an
+``RField`` adds its resistance matrix to ``R``; a source names its collocated
+output.  A nonlinear field with a coupled energy is accepted when ``J - R``
+comes out constant (``F = (df/dx) (d^2H/dx^2)^{-1}``).
+
 Only the storage states enter: integrator states that a displacement or
 momentum output added (``model.integrators``) are not stored energy and are
 left out (:attr:`PortHamiltonian.states` is ``model.states[:model.storage_states]``).
@@ -68,8 +77,9 @@ hence a :class:`~bondgraph.errors.BondGraphError` and ``ValueError``), naming
 the element: nonlinear or modulated R, MTF/MGY, sources with ``value=``
 (constant loads, time functions, modulated sources: not ports), storage laws
 that use signals or time, storage in derivative causality with a nonlinear
-law, a storage law whose energy ``sympy.integrate`` cannot find, a source
-whose derivative enters (a flow source driving an inertia directly).
+law (a nonlinear field with a port in derivative causality), a nonlinear
+``RField``, a storage law whose energy ``sympy.integrate`` cannot find, a
+source whose derivative enters (a flow source driving an inertia directly).
 
 Transformers and gyrators with ``efficiency`` other than 1 are accepted and
 listed in :attr:`PortHamiltonian.nonconservative`: such a two-port (a
