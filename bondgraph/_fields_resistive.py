@@ -43,7 +43,7 @@ class RField(Field):
 
     resistance: object = None
     matrix: Optional[sympy.ImmutableMatrix] = field(default=None, init=False)
-    laws: tuple = field(default=(), init=False, repr=False)
+    laws: sympy.Tuple = field(default=sympy.Tuple(), init=False, repr=False)
     variables: tuple = field(default=(), init=False, repr=False)
     kind: ClassVar[str] = "RF"
     definite: ClassVar[bool] = False
@@ -68,11 +68,11 @@ class RField(Field):
         laws = tuple(law) if isinstance(law, (list, tuple)) else None
         if not laws:
             raise FieldError(f"{owner}: law= must be a sequence of expressions, the effort of "
-                             "each port; got {law!r}")
+                             f"each port; got {law!r}")
         own, vs = _variables(law, variables, len(laws), owner=owner,
                              prefixes="f" * len(laws), what="law")
-        object.__setattr__(self, "laws", tuple(_function(x, vs, own, owner=owner, what="law")
-                                               for x in laws))
+        object.__setattr__(self, "laws", sympy.Tuple(*[_function(x, vs, own, owner=owner,
+                                                                 what="law") for x in laws]))
         object.__setattr__(self, "variables", own)
         object.__setattr__(self, "port_kinds", "R" * len(laws))
         jac = sympy.Matrix(self.laws).jacobian(own)
