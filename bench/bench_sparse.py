@@ -10,6 +10,7 @@ chain is the one of ``bench/bench_chain.py`` (imported from it).
     python bench/bench_sparse.py 1000 5000        # chosen sizes
     python bench/bench_sparse.py --dense 500      # force dense plants (for comparison)
     python bench/bench_sparse.py --symengine 1000 5000
+    python bench/bench_sparse.py --lu 5000        # column orderings of the sparse LU
 
 ``--symengine`` measures ``symengine.Lambdify(..., backend="lambda",
 cse=True)`` against ``sympy.lambdify(..., cse=True)`` (what ``compile_plant``
@@ -17,6 +18,12 @@ uses) on the same expressions: the time of ``compile_plant`` end to end, of
 the lambdify step alone with each backend (symengine's time includes the
 conversion of the sympy expressions), and the largest relative difference of
 the values the two functions compute.  Needs ``pip install symengine``.
+
+``--lu`` times the 100 sparse LU factorizations and solves of a frequency
+response three ways: COLAMD ordering at every frequency, no ordering
+(``permc_spec="NATURAL"`` on the model's state order), and the ordering of
+the first factorization reused on the pre-permuted structure (what
+``NumericStateSpace.frequency_response`` does, :class:`ShiftedSolver`).
 
 Timings on a shared machine are noisy: take the median of a few runs.
 """
@@ -105,6 +112,35 @@ def symengine_one(n: int) -> dict:
             "compile_plant_with_symengine": total - (t3 - t2) + (t4 - t3), "max_rel_diff": rel}
 
 
+def lu_one(n: int) -> dict:
+    import numpy as np
+    import scipy.sparse
+    import scipy.sparse.linalg
+
+    import bondgraph as bg
+    from bench_chain import build
+    from bondgraph.numeric.sparse import Pattern, ShiftedSolver
+
+    model = bg.derive(bg.assign_causality(build(n)), outputs={"v_last": bg.flow(f"m{n - 1}")})
+    nm = bg.compile_plant(model, sparse=True)
+    ss = nm.plant(_values(nm))
+    A, b = ss.A, ss.B.toarray().astype(complex)
+    w = np.logspace(-3, 1, 100)
+    eye = scipy.sparse.eye_array(A.shape[0], format="csc")
+    r = {"N": n, "states": A.shape[0]}
+    for spec in ("COLAMD", "NATURAL"):
+        t0 = time.perf_counter()
+        for wk in w:
+            scipy.sparse.linalg.splu((1j * wk * eye - A).tocsc(), permc_spec=spec).solve(b)
+        r[spec] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    solver = ShiftedSolver(Pattern(A.shape, A.indptr, A.indices))
+    for wk in w:
+        solver.solve(A.data, 1j * wk, b)
+    r["reused"] = time.perf_counter() - t0
+    return r
+
+
 def _run(args: list[str]) -> dict:
     out = subprocess.run([sys.executable, __file__, *args], check=True, capture_output=True,
                          text=True).stdout
@@ -118,6 +154,16 @@ def main(argv: list[str]) -> None:
         return
     if argv and argv[0] == "--symengine-one":
         print(json.dumps(symengine_one(int(argv[1]))))
+        return
+    if argv and argv[0] == "--lu-one":
+        print(json.dumps(lu_one(int(argv[1]))))
+        return
+    if argv and argv[0] == "--lu":
+        print(f"{'N':>6} {'states':>6} {'COLAMD each s':>14} {'NATURAL s':>10} {'reused s':>9}")
+        for n in [int(a) for a in argv[1:]] or [5000]:
+            r = _run(["--lu-one", str(n)])
+            print(f"{n:>6} {r['states']:>6} {r['COLAMD']:>14.3f} {r['NATURAL']:>10.3f} "
+                  f"{r['reused']:>9.3f}")
         return
     if argv and argv[0] == "--symengine":
         sizes = [int(a) for a in argv[1:]] or [1000, 5000]
