@@ -131,7 +131,7 @@ class Model:
 
     @property
     def equations(self) -> tuple[sympy.Eq, ...]:
-        """``Eq(Derivative(x, t), f)`` for each state, then ``Eq(y, g)``.
+        r"""``Eq(Derivative(x, t), f)`` for each state, then ``Eq(y, g)``.
 
         The derivatives are unevaluated (``sympy.latex`` prints
         ``\frac{d}{d t} p_{m}``); :meth:`to_latex` prints the dotted form.

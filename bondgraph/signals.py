@@ -220,8 +220,13 @@ def momentum(target: Target, port: int | None = None) -> Signal:
     return Signal("momentum", target, port)
 
 
+#: Momentum of the element whose law is being written (``bg.I("m", law=...)``).
 p = LawVariable("p")
+#: Displacement of the element whose law is being written (``bg.C("s", law=k*bg.q)``).
 q = LawVariable("q")
+#: Effort of the element whose law is being written.
 e = LawVariable("e")
+#: Flow of the element whose law is being written (``bg.R("d", law=c*bg.f*abs(bg.f))``).
 f = LawVariable("f")
+#: Time, for modulated laws and sources (``bg.Se("u", value=sympy.sin(bg.t))``).
 t = sympy.Symbol("t", real=True)

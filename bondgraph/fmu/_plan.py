@@ -269,7 +269,7 @@ def default_step(model: Model, parameters: Sequence[float]) -> float:
     The Jacobian of ``x' = f(t, x, u)`` is taken by finite differences at
     ``t = 0``, ``x = 0``, ``u = 0`` with the given parameter values; ``h
     |lambda|max = 0.05`` keeps RK4's error per unit time of the fastest mode
-    near ``|lambda| (h |lambda|)^4 / 120``, about 5e-8 |lambda| relative.
+    near ``|lambda| (h |lambda|)^4 / 120``, about 5e-8 ``|lambda|`` relative.
     The step is rounded down to 1, 2 or 5 times a power of ten and kept
     within [1e-7, 1e-3] s; 1e-3 s when the Jacobian cannot be evaluated
     (a law singular at rest).

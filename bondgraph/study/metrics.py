@@ -19,7 +19,8 @@ bandwidth      ``bandwidth``                  first frequency (rad/s) where ``|H
 overshoot      ``overshoot``                  step overshoot, percent (python-control
                                               ``step_info``)
 settling_time  ``settling_time``              2 % settling time of the step response (s)
-step           ``overshoot``, ``settling_time`` both from one step response
+step           ``overshoot``,                 both from one step response
+               ``settling_time``
 ============== ============================== =========================================
 
 The first five are vectorised: a study evaluates them on a whole chunk of
