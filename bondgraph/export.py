@@ -315,14 +315,16 @@ def load_npz(path: PathLike) -> NumericStateSpace:
         raise fail(f"missing arrays {', '.join(missing)}")
     if len({issparse(M) for M in mats.values()}) > 1:
         raise fail("A, B, C, D must all be dense or all sparse")
-    names = [tuple(str(v) for v in arrays[k].reshape(-1))
-             for k in ("state_names", "input_names", "output_names", "parameter_names")]
+    states, inputs, outputs, pnames = (tuple(str(v) for v in arrays[k].reshape(-1)) for k in
+                                       ("state_names", "input_names", "output_names",
+                                        "parameter_names"))
     values = arrays["parameter_values"].reshape(-1)
-    if values.shape[0] != len(names[3]):
-        raise fail(f"{len(names[3])} parameter_names but {values.shape[0]} parameter_values")
+    if values.shape[0] != len(pnames):
+        raise fail(f"{len(pnames)} parameter_names but {values.shape[0]} parameter_values")
     try:
-        return NumericStateSpace(mats["A"], mats["B"], mats["C"], mats["D"], *names[:3],
-                                 dict(zip(names[3], values.tolist())), str(arrays["model_name"]))
+        return NumericStateSpace(mats["A"], mats["B"], mats["C"], mats["D"], states, inputs,
+                                 outputs, dict(zip(pnames, values.tolist())),
+                                 str(arrays["model_name"]))
     except (BondGraphError, TypeError, ValueError) as exc:
         raise fail(f"malformed {FORMAT_NAME} archive: {exc}") from exc
 

@@ -194,7 +194,8 @@ class SparseBatchStateSpace:
         """The same plants as dense stacks (``8 P n^2`` bytes for ``A``)."""
         stacks = [p.to_dense(self._part(k, slice(None))) for k, p in enumerate(self.patterns)]
         d = self.n_derivatives
-        return BatchStateSpace(*(freeze(M) for M in stacks[:4]), self.state_names,
+        A, B, C, D = (freeze(M) for M in stacks[:4])
+        return BatchStateSpace(A, B, C, D, self.state_names,
                                self.input_names, self.output_names, self.parameter_names,
                                self.parameter_values, self.name,
                                tuple(freeze(M) for M in stacks[4:4 + d]),
