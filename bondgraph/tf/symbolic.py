@@ -49,7 +49,9 @@ import sympy as sp
 from . import _algebra as alg
 from ._checks import (METHODS, NORMALIZATIONS, Normalize, _check_options, _check_shapes,
                       _resolve, _signal_names)
-from ._convert import _Converter, _normalize
+from ._convert import _Converter
+from ._packed import can_pack, packed_determinants
+from ._packed_ops import clear_terms, normalize_terms
 from .errors import InvalidOptionError, SingularPencilError
 from .matrix import TransferMatrix
 from .numeric_tf import NumericTF, NumericTransferMatrix
@@ -75,6 +77,15 @@ def _compute(A, B, C, D, E, s, method, backend):
     enc = alg.encode_system(A, B, C, D, E, s, backend=backend)
     ring = enc.ring
     p, m = C.shape[0], B.shape[1]
+    if method != "berkowitz" and can_pack(enc):
+        # fast path: packed determinants, results as exponent arrays (see _packed)
+        den, flat = packed_determinants(enc, [(i, j) for i in range(p) for j in range(m)],
+                                        method=method)
+        if not len(den):
+            raise SingularPencilError("E, A: det(sE - A) is identically zero (singular "
+                                      "pencil); the system has no transfer function")
+        flat = clear_terms([den] + flat, enc)
+        return enc, flat[0], [flat[1 + i * m:1 + (i + 1) * m] for i in range(p)]
     if method == "berkowitz":
         if E is not None:
             raise InvalidOptionError("method: 'berkowitz' (DomainMatrix.charpoly) needs "
@@ -224,7 +235,7 @@ def transfer_matrix(A, B, C, D=None, *, E=None, input_names: Sequence[str] | Non
     enc, den, nums = _compute(A, B, C, D, E, s, method, backend)
     conv = _Converter(enc.ring, enc.params)
     flat = [x for row in nums for x in row]
-    Pd, Pns = _normalize(conv, den, flat, normalize, s)
+    Pd, Pns = normalize_terms(conv, den, flat, normalize, s)
     m = len(ins)
     rows = tuple(tuple(Pns[i * m:(i + 1) * m]) for i in range(len(outs)))
     raw = (conv, den, tuple(tuple(r) for r in nums))

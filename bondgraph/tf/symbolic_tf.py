@@ -27,7 +27,9 @@ from ..parameters import exact_value, match_values
 from ..values import as_expr
 from . import _algebra as alg
 from ._checks import Normalize, _check_options
-from ._convert import _Converter, _normalize
+from ._convert import _Converter
+from ._packed import Terms
+from ._packed_ops import cancel_terms, normalize_terms
 from ._exact import _domain_gens, _poly_values, _value_map
 from ._terms import poly_terms, symbolic_sum
 from .errors import InvalidOptionError, SingularPencilError
@@ -263,6 +265,9 @@ def _entry(conv: _Converter, num: dict, den: dict, s: sp.Symbol, input_name: str
            output_name: str, normalize: str, *, cancel: bool) -> SymbolicTF:
     """One transfer function from ring s-dicts: optionally cancelled, then normalized."""
     if cancel:
-        num, den = alg.cancel_common(num, den, conv.ring, conv.k)
-    Pd, (Pn,) = _normalize(conv, den, [num], normalize, s)
+        if isinstance(den, Terms) and isinstance(num, Terms):
+            num, den = cancel_terms(num, den, conv.ring, conv.k)
+        else:
+            num, den = alg.cancel_common(num, den, conv.ring, conv.k)
+    Pd, (Pn,) = normalize_terms(conv, den, [num], normalize, s)
     return SymbolicTF(Pn, Pd, input_name, output_name)
