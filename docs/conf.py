@@ -9,8 +9,8 @@ The API reference is generated at every build from the installed package (see
 :func:`write_api_pages`): each public module (no component of its dotted name
 starts with ``_``) gets one page documenting the names in its ``__all__``, and
 the top-level ``bondgraph.__all__`` gets one page per name.  The generated
-``.rst`` files go to ``docs/api/generated/`` (ignored by git, rebuilt from
-scratch each time), so a new public module or a new name in an ``__all__``
+``.rst`` files go to ``docs/api/generated/`` (ignored by git, rewritten when
+they change, stale ones removed), so a new public module or a new name in an ``__all__``
 appears with no edit here.  The five notebooks of ``notebooks/`` are rendered
 through the symlink ``docs/notebooks`` and executed at build time by myst-nb.
 """
@@ -21,7 +21,6 @@ import importlib
 import inspect
 import os
 import pkgutil
-import shutil
 import sys
 from pathlib import Path
 
@@ -188,9 +187,7 @@ def write_api_pages(out: Path) -> list[str]:
     Every name of a module's ``__all__`` is listed on its page with a link; it is documented in
     full once, on the page of its home module (see :func:`_homes`).
     """
-    if out.exists():
-        shutil.rmtree(out)
-    out.mkdir(parents=True)
+    out.mkdir(parents=True, exist_ok=True)
     modules = {}
     for name in public_modules():
         try:
@@ -202,15 +199,35 @@ def write_api_pages(out: Path) -> list[str]:
                 raise
             print(f"[bondgraph docs] {name} left out: needs the '{extra}' extra ({exc})")
     homes = _homes(modules)
-    for name, mod in modules.items():
-        (out / f"{name}.rst").write_text(_module_page(name, mod, homes), encoding="utf-8")
+    pages = {f"{name}.rst": _module_page(name, mod, homes) for name, mod in modules.items()}
     index = _heading("API reference") + (
         "\nGenerated at build time from the package: a page for every public module (no part "
         "of its name starts with ``_``), listing the names of its ``__all__``; each name is "
         "documented in full on the page of the module that defines it.\n\n"
         ".. toctree::\n   :maxdepth: 1\n\n" + "".join(f"   {n}\n" for n in modules))
-    (out / "modules.rst").write_text(index, encoding="utf-8")
+    pages["modules.rst"] = index
+    for stale in set(p.name for p in out.glob("*.rst")) - set(pages):
+        (out / stale).unlink(missing_ok=True)   # a module that no longer exists
+    for filename, text in pages.items():
+        _write_if_changed(out / filename, text)
     return list(modules)
+
+
+def _write_if_changed(path: Path, text: str) -> None:
+    """Replace ``path`` atomically, and only when its text changes.
+
+    Two builds at once (a test run beside a developer's build) then never see a
+    half-written or missing page, and an unchanged page keeps its timestamp so an
+    incremental build does not reread it.
+    """
+    try:
+        if path.read_text(encoding="utf-8") == text:
+            return
+    except FileNotFoundError:
+        pass
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    tmp.write_text(text, encoding="utf-8")
+    os.replace(tmp, path)
 
 
 write_api_pages(DOCS / "api" / "generated")
