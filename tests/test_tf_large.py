@@ -18,7 +18,9 @@ function of the hand derivation:
 from __future__ import annotations
 
 import random
+import sys
 from fractions import Fraction
+from pathlib import Path
 
 import pytest
 import sympy as sp
@@ -26,32 +28,19 @@ import sympy as sp
 import bondgraph as bg
 from bondgraph.tf import transfer_function, transfer_matrix
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "bench"))
+import bench_chain  # noqa: E402  (the models; the expectations are derived here)
+import bench_tf  # noqa: E402
+
 s = sp.Symbol("s")
 
 
 def chain_matrices(n):
-    """State space of the position chain (states x_i, v_i), as in bench/bench_tf.py."""
-    m = sp.symbols(f"m1:{n + 1}", positive=True)
-    k = sp.symbols(f"k1:{n + 1}", positive=True)
-    b = sp.symbols(f"b1:{n + 1}", positive=True)
-    A = sp.zeros(2 * n, 2 * n)
-    for i in range(n):
-        A[2 * i, 2 * i + 1] = 1
-    for link in range(n):          # link joins mass link-1 (ground for 0) and mass link
-        for mass, sign in ((link, 1), (link - 1, -1)):
-            if mass < 0:
-                continue
-            r = 2 * mass + 1
-            A[r, 2 * link] -= sign * k[link] / m[mass]
-            A[r, 2 * link + 1] -= sign * b[link] / m[mass]
-            if link >= 1:
-                A[r, 2 * link - 2] += sign * k[link] / m[mass]
-                A[r, 2 * link - 1] += sign * b[link] / m[mass]
-    B = sp.zeros(2 * n, 1)
-    B[1, 0] = 1 / m[0]
-    C = sp.zeros(1, 2 * n)
-    C[0, 2 * n - 2] = 1
-    return (A, B, C), (m, k, b)
+    """State space of the position chain (states x_i, v_i) of ``bench/bench_tf.py``."""
+    A, B, C, _ = bench_tf.chain(n)
+    syms = {x.name: x for x in A.free_symbols | B.free_symbols}
+    m, k, b = ([syms[f"{c}{i}"] for i in range(1, n + 1)] for c in "mkb")
+    return (A, B, C), (tuple(m), tuple(k), tuple(b))
 
 
 def closed_form(n, m, k, b):
@@ -102,28 +91,6 @@ def test_position_chain_normalizations(normalize):
     assert all(sp.cancel(g - w) == 0 for g, w in zip(got, want))
 
 
-def bond_graph_chain(n):
-    g = bg.BondGraph(f"chain{n}")
-    F = bg.Se("F")
-    g.add(F)
-    prev = None
-    for i in range(n):
-        v = bg.One(f"v{i}")
-        g.add(v, bg.I(f"m{i}"), bg.R(f"b{i}"))
-        g.connect(v, f"m{i}")
-        g.connect(v, f"b{i}")
-        if prev is None:
-            g.connect(F, v)
-        else:
-            sj = bg.Zero(f"s{i}")
-            g.add(sj, bg.C(f"k{i}"))
-            g.connect(prev, sj)
-            g.connect(sj, v)
-            g.connect(sj, f"k{i}")
-        prev = v
-    return g
-
-
 def solve_exact(Z, rhs):
     """Gauss-Jordan over Fractions (independent of sympy and of the package)."""
     n = len(Z)
@@ -140,7 +107,7 @@ def solve_exact(Z, rhs):
 
 @pytest.mark.parametrize("n", [3, 6])
 def test_bond_graph_chain_velocity(n):
-    model = bg.derive(bond_graph_chain(n), outputs={"v": bg.flow(f"m{n - 1}")})
+    model = bg.derive(bench_chain.build(n), outputs={"v": bg.flow(f"m{n - 1}")})
     G = model.transfer_function("F", "v")
     syms = {x.name: x for x in G.num.as_expr().free_symbols | G.den.as_expr().free_symbols
             if x != s}
