@@ -8,12 +8,20 @@ Models (built as sympy matrices here, independent of the engine core):
 - ``hub_beam_E``: the same hub and 3 modes coupled through a full mass
   matrix, in descriptor form ``E x' = A x + B u`` (8 states, E not diagonal);
 - ``chain7``: 7 masses with springs and dampers to the previous mass (the
-  first to ground), force on mass 1, position of mass 7 (14 states, 21 symbols).
+  first to ground), force on mass 1, position of mass 7 (14 states, 21 symbols);
+  ``chain5`` .. ``chain10``: the same with 5 .. 10 masses (10 .. 20 states);
+- ``bgchain10``: the bond-graph chain of ``bench/bench_chain.py`` with 10 cells
+  (dampers to ground, springs between masses), force to last-mass velocity
+  (19 states, 29 symbols), from ``Model.state_space()``.
 
 Each configuration runs in a fresh process (``subprocess``); the time is the
-``transfer_function`` call only (imports excluded, reported separately).
+``transfer_function`` call only (imports excluded, reported separately), the
+memory the process's peak resident set (``resource.getrusage``, imports
+included), the size of the answer the number of terms of the numerator and
+denominator coefficients (a fraction's numerator and denominator both count).
 
     python bench/bench_tf.py             # fast path (method auto) + references
+    python bench/bench_tf.py --chains    # only the chain sizes (10 .. 20 states)
     python bench/bench_tf.py --slow      # also Berkowitz on the 14-state chain
     python bench/bench_tf.py --json      # machine-readable rows
 """
@@ -135,13 +143,40 @@ def chain(nmass: int = 7):
     return A, B, C, sp.zeros(1, 1)
 
 
+def bond_graph_chain(cells: int = 10):
+    """Force to last-mass velocity of ``bench/bench_chain.py``'s chain."""
+    import bondgraph as bg
+
+    sys.path.insert(0, str(ROOT / "bench"))
+    from bench_chain import build
+
+    model = bg.derive(build(cells), outputs={"v": bg.flow(f"m{cells - 1}")})
+    ss = model.state_space()
+    return ss.A, ss.B, ss.C, ss.D
+
+
+CHAINS = ("chain5", "chain7", "chain8", "chain9", "chain10", "bgchain10")
 MODELS = {"dc_motor": dc_motor, "hub_beam": hub_beam, "hub_beam_E": hub_beam_descriptor,
-          "chain7": chain}
+          "chain7": chain, "bgchain10": bond_graph_chain,
+          **{f"chain{n}": (lambda n=n: chain(n)) for n in (5, 8, 9, 10)}}
+
+
+def answer_terms(P) -> int:
+    """Terms of a Poly's coefficients (polynomials, fractions or numbers)."""
+    total = 0
+    for c in P.rep.to_list():
+        if hasattr(c, "numer") and hasattr(c, "denom"):
+            total += len(c.numer) + (len(c.denom) if c.denom != 1 else 0)
+        elif isinstance(c, dict):
+            total += len(c)
+        else:
+            total += bool(c)
+    return total
 
 
 def run_one(model: str, method: str, normalize: str) -> dict:
     t0 = time.perf_counter()
-    import sympy as sp
+    import sympy  # noqa: F401  (part of the import time)
     from sympy.external.gmpy import GROUND_TYPES
 
     sys.path.insert(0, str(ROOT))
@@ -154,16 +189,17 @@ def run_one(model: str, method: str, normalize: str) -> dict:
     syms = set()
     for M in (A, B, C, D) + tuple(rest):
         syms |= M.free_symbols
+    import resource
+
     t1 = time.perf_counter()
     G = transfer_function(A, B, C, D, E=E, method=method, normalize=normalize)
     seconds = time.perf_counter() - t1
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     return {"model": model, "states": A.shape[0], "symbols": len(syms), "method": method,
             "backend": "sympy-DomainMatrix" if method == "berkowitz" else backend_name(),
             "ground_types": GROUND_TYPES, "normalize": normalize, "seconds": seconds,
-            "import_seconds": t_import, "order": G.order,
-            "den_terms": sum(len(sp.Add.make_args(sp.expand(c))) for c in
-                             transfer_function(A, B, C, D, E=E,
-                                               normalize="as-derived").den_coeffs)}
+            "import_seconds": t_import, "order": G.order, "peak_mb": peak,
+            "num_terms": answer_terms(G.num), "den_terms": answer_terms(G.den)}
 
 
 def spawn(model: str, method: str, env_extra: dict, normalize: str = "monic",
@@ -191,12 +227,18 @@ def main(argv=None) -> int:
     ap.add_argument("--slow", action="store_true",
                     help="also Berkowitz (DomainMatrix.charpoly) on the 14-state chain")
     ap.add_argument("--json", action="store_true", help="print JSON rows")
+    ap.add_argument("--chains", action="store_true",
+                    help="only the chains of 10 .. 20 states (both normalizations)")
     args = ap.parse_args(argv)
     if args.one:
         print(json.dumps(run_one(args.one, args.method, args.normalize)))
         return 0
     configs = []
-    for model in MODELS:
+    chains = [(m, "auto", {"SYMPY_GROUND_TYPES": "flint"}, norm) for m in CHAINS
+              for norm in ("monic", "as-derived")]
+    if args.chains:
+        return _print(chains, args.json)
+    for model in ("dc_motor", "hub_beam", "hub_beam_E", "chain7"):
         configs.append((model, "auto", {"SYMPY_GROUND_TYPES": "flint"}))
         configs.append((model, "auto", {"SYMPY_GROUND_TYPES": "python"}))
     for model in ("dc_motor", "hub_beam") + (("chain7",) if args.slow else ()):
@@ -205,20 +247,27 @@ def main(argv=None) -> int:
     for model in ("dc_motor", "hub_beam", "chain7"):
         configs.append((model, "auto", {"BONDGRAPH_TF_BACKEND": "sympy",
                                         "SYMPY_GROUND_TYPES": "flint"}))
-    rows = [spawn(*c) for c in configs]
-    if args.json:
+    return _print([c + ("monic",) for c in configs] + chains, args.json)
+
+
+def _print(configs, as_json: bool) -> int:
+    rows = [spawn(model, method, env, normalize) for model, method, env, normalize in configs]
+    if as_json:
         for r in rows:
             print(json.dumps(r))
         return 0
     head = f"{'model':<10} {'states':>6} {'symbols':>7}  {'method':<10} {'ring arithmetic':<19} " \
-           f"{'ground':<7} {'seconds':>8}  {'import s':>8}"
+           f"{'ground':<7} {'normalize':<10} {'seconds':>8} {'peak MB':>8} {'num terms':>9} " \
+           f"{'den terms':>9}  {'import s':>8}"
     print(head)
     print("-" * len(head))
     for r in rows:
         print(f"{r['model']:<10} {r.get('states', ''):>6} {r.get('symbols', ''):>7}  "
               f"{r['method']:<10} {r.get('backend', r.get('BONDGRAPH_TF_BACKEND', '')):<19} "
               f"{r.get('ground_types', r.get('SYMPY_GROUND_TYPES', '')):<7} "
-              f"{r['seconds']:>8.3f}  {r.get('import_seconds', float('nan')):>8.2f}"
+              f"{r.get('normalize', ''):<10} {r['seconds']:>8.3f} "
+              f"{r.get('peak_mb', float('nan')):>8.0f} {r.get('num_terms', ''):>9} "
+              f"{r.get('den_terms', ''):>9}  {r.get('import_seconds', float('nan')):>8.2f}"
               + (f"  {r['note']}" if "note" in r else ""))
     return 0
 
