@@ -7,12 +7,18 @@ Build (from the repository root)::
 
 The API reference is generated at every build from the installed package (see
 :func:`write_api_pages`): each public module (no component of its dotted name
-starts with ``_``) gets one page documenting the names in its ``__all__``, and
-the top-level ``bondgraph.__all__`` gets one page per name.  The generated
-``.rst`` files go to ``docs/api/generated/`` (ignored by git, rewritten when
-they change, stale ones removed), so a new public module or a new name in an ``__all__``
-appears with no edit here.  The five notebooks of ``notebooks/`` are rendered
-through the symlink ``docs/notebooks`` and executed at build time by myst-nb.
+starts with ``_``) gets a page listing the names of its ``__all__`` (or, without
+one, the classes and functions it defines).  Each object is documented in full
+once, on the page of its home module (where it is defined, or the public package
+re-exporting it from a private module); the other pages, ``bondgraph`` included,
+link there.  The generated ``.rst`` files go to ``docs/api/generated/`` (ignored
+by git, rewritten only when they change, stale ones removed), so a new public
+module or a new name in an ``__all__`` appears with no edit here.  A module that
+needs an optional extra goes in :data:`OPTIONAL_MODULES`.
+
+The five notebooks of ``notebooks/`` are rendered through the symlink
+``docs/notebooks`` and executed at every build by myst-nb (a failing cell fails
+the build).
 """
 
 from __future__ import annotations
@@ -112,6 +118,16 @@ def _common_parts(a: str, b: str) -> int:
     return n
 
 
+def exported_names(mod: object) -> list[str]:
+    """A module's public names: its ``__all__``, else the classes and functions it defines."""
+    names = getattr(mod, "__all__", None)
+    if names is not None:
+        return list(names)
+    return [n for n, obj in vars(mod).items() if not n.startswith("_")
+            and (inspect.isclass(obj) or inspect.isfunction(obj))
+            and obj.__module__ == mod.__name__]
+
+
 def _homes(modules: dict[str, object]) -> dict[tuple[int, str], str]:
     """Where each exported object is documented, once: ``(id(obj), name) -> module``.
 
@@ -123,7 +139,7 @@ def _homes(modules: dict[str, object]) -> dict[tuple[int, str], str]:
     exporters: dict[tuple[int, str], list[str]] = {}
     objects = {}
     for modname, mod in modules.items():
-        for name in getattr(mod, "__all__", None) or ():
+        for name in exported_names(mod):
             try:
                 obj = getattr(mod, name)
             except ImportError:
@@ -155,7 +171,7 @@ def _directive(obj: object) -> str:
 
 
 def _module_page(name: str, mod: object, homes: dict[tuple[int, str], str]) -> str:
-    exported = list(getattr(mod, "__all__", None) or ())
+    exported = exported_names(mod)
     if name == "bondgraph":
         exported = sorted(exported, key=str.lower)
     rows, bodies = [], []
