@@ -370,6 +370,18 @@ class OnePort(_OneBond):
             return self._linear(self.own)
         return self._invert(self.inverse, self.inverse_own, self.own, self.inverse_name)
 
+    def _forward_at(self, x: sympy.Expr) -> sympy.Expr:
+        """``forward()`` with the own variable replaced by ``x`` (a linear law built at once)."""
+        if self.parameter is not None:
+            return self._linear(x)
+        return self.forward().xreplace({self.own: x})
+
+    def _backward_at(self, x: sympy.Expr) -> sympy.Expr:
+        """``backward()`` with the dual variable replaced by ``x``."""
+        if self.parameter is not None:
+            return self._linear_inverse(x)
+        return self.backward().xreplace({self.inverse_own: x})
+
     def backward(self) -> sympy.Expr:
         """The inverse law, a function of the dual variable (``p(f)``, ``q(e)``, ``f(e)``)."""
         if self.inverse is not None:
@@ -475,7 +487,7 @@ class _Storage(OnePort):
     def output(self, local: LocalVariables, port: int) -> sympy.Expr:
         if not local.states:  # pragma: no cover - derivation asks derivative_output
             raise AssertionError(f"{self.label()} is in derivative causality")
-        out = self.forward().xreplace({self.own: local.states[0]})
+        out = self._forward_at(local.states[0])
         return self._modulated(local, self._signed(local, out, local.effort_in(0)))
 
     def state_derivatives(self, local: LocalVariables) -> tuple[sympy.Expr, ...]:
@@ -484,7 +496,7 @@ class _Storage(OnePort):
 
     def stored(self, local: LocalVariables) -> tuple[sympy.Expr, ...]:
         dual = self._signed(local, local.input(0), not local.effort_in(0))
-        return (self._modulated(local, self.backward().xreplace({self.inverse_own: dual})),)
+        return (self._modulated(local, self._backward_at(dual)),)
 
     def derivative_output(self, local: LocalVariables, port: int,
                           rates: Sequence[sympy.Expr]) -> sympy.Expr:
@@ -630,9 +642,9 @@ class R(OnePort):
     def output(self, local: LocalVariables, port: int) -> sympy.Expr:
         s, x = local.sign(0), local.input(0)
         if local.effort_in(0):   # f = inverse(e)
-            out = s * self.backward().xreplace({E_VAR: x})
+            out = s * self._backward_at(x)
         else:
-            out = self.forward().xreplace({F_VAR: s * x})
+            out = self._forward_at(s * x)
         return self._modulated(local, out)
 
 

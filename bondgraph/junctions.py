@@ -301,8 +301,10 @@ class _Junction(Element):
         strong = self._strong(local.effort_in(p) for p in range(n))
         if port != strong:       # the common variable
             return local.input(strong)
-        terms = [local.sign(p) * local.input(p) for p in range(n) if p != strong]
-        return -local.sign(strong) * sympy.Add(*terms)
+        # the signs folded into the terms: one Add, no distributed -1 * Add(...)
+        flip = -local.sign(strong)
+        return sympy.Add(*[local.input(p) if flip * local.sign(p) > 0 else -local.input(p)
+                           for p in range(n) if p != strong])
 
     def drawing_label(self) -> tuple[str, str]:
         return self.kind, self.name
