@@ -100,16 +100,25 @@ def check_definite(values: np.ndarray, *, owner: str, what: str, definite: bool 
 
 @functools.lru_cache(maxsize=64)
 def inverse(M: sympy.ImmutableMatrix) -> sympy.ImmutableMatrix:
-    """``M^-1``: numeric LU, or adjugate over a factored determinant for symbols (cached:
-    derivation asks for each port of a field)."""
+    """``M^-1``: numeric LU, or for symbols elimination over their fraction field (cached:
+    derivation asks for each port of a field).
+
+    Raises
+    ------
+    ValueError
+        ``M`` is singular (sympy's ``NonInvertibleMatrixError``).
+    """
     if M.rows == 0:
         return sympy.ImmutableMatrix(M)
     if not M.free_symbols:
         return sympy.ImmutableMatrix(M.inv())
     if M.is_diagonal():
         return sympy.ImmutableMatrix.diag(*[1 / M[i, i] for i in range(M.rows)])
-    det = sympy.factor(M.det())
-    return sympy.ImmutableMatrix(M.adjugate().applyfunc(lambda v: sympy.factor(v) / det))
+    try:       # fraction-field elimination: fast, one reduced fraction per entry
+        return sympy.ImmutableMatrix(M.inv(method="DM"))
+    except (NotImplementedError, sympy.polys.polyerrors.PolynomialError):
+        det = sympy.factor(M.det())
+        return sympy.ImmutableMatrix(M.adjugate().applyfunc(lambda v: sympy.factor(v) / det))
 
 
 def partial_solve(T: sympy.MatrixBase, w_known: Mapping[int, sympy.Expr],

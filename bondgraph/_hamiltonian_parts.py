@@ -8,6 +8,7 @@ from typing import TYPE_CHECKING, Optional, Sequence
 
 import sympy
 
+from ._fields_algebra import inverse as matrix_inverse
 from .errors import BondGraphWarning, LawError, NonlinearModelError
 from .model import Model
 from .protocol import Element
@@ -186,10 +187,31 @@ def _inverse(Q: sympy.ImmutableMatrix, model: Model) -> sympy.ImmutableMatrix:
                 f"model {model.name!r}: the stored energy does not depend on the state "
                 f"{model.state_names[k]}")
         return Matrix.diag(*[1 / Q[i, i] for i in range(Q.rows)]) if Q.rows else Q
-    if sympy.simplify(Q.det()) == 0:
+    try:
+        return matrix_inverse(Matrix(Q))
+    except ValueError:
         raise PortHamiltonianError(
-            f"model {model.name!r}: the stored energy is a singular quadratic form of the states")
-    return Matrix(Q.inv(method="LU"))
+            f"model {model.name!r}: the stored energy is a singular quadratic form of the "
+            "states") from None
+
+
+def _block_inverse(storage, x: Sequence[sympy.Symbol], hess, model: Model
+                   ) -> sympy.ImmutableMatrix:
+    """The inverse Hessian of ``H`` element by element (every state in integral causality:
+    ``H`` is a sum of the elements' energies, so the Hessian is block diagonal), each block
+    the element's own :meth:`~bondgraph.protocol.Element.energy_hessian_inverse` (a mass or
+    compliance matrix needs no inversion) or its Hessian block inverted."""
+    index = {sym: i for i, sym in enumerate(x)}
+    out = sympy.zeros(len(x), len(x))
+    for syms, el in storage:
+        rows = [index[s] for s in syms]
+        block = el.energy_hessian_inverse()
+        if block is None or block.shape != (len(syms), len(syms)):
+            block = _inverse(Matrix(hess.extract(rows, rows)), model)
+        for a, i in enumerate(rows):
+            for b, j in enumerate(rows):
+                out[i, j] = block[a, b]
+    return Matrix(out)
 
 
 def _cancel(M) -> sympy.ImmutableMatrix:

@@ -473,6 +473,10 @@ class _Storage(OnePort):
                            f"energy int_0^{self.own} ({law}) d{self.own}")
         return H
 
+    def energy_hessian_inverse(self) -> Optional[sympy.ImmutableMatrix]:
+        # H = x**2/(2*parameter): the Hessian's inverse is the parameter itself
+        return sympy.ImmutableMatrix([[self.parameter]]) if self.parameter is not None else None
+
     def hamiltonian_error(self, dependent: bool) -> Optional[str]:
         err = super().hamiltonian_error(dependent)
         if err is None and dependent and not self.is_linear():

@@ -253,6 +253,11 @@ class StorageField(Field):
         return sympy.expand((x.T * Q * x)[0, 0] / 2) if not Q.free_symbols else \
             (x.T * Q * x)[0, 0] / 2
 
+    def energy_hessian_inverse(self) -> Optional[sympy.ImmutableMatrix]:
+        if self.matrix is not None and self.energy is None:
+            return self.matrix if self.form == "inverse" else None
+        return None
+
     def hamiltonian_error(self, dependent: bool) -> Optional[str]:
         if dependent and self.matrix is None:
             return (f"{self.label()} is in derivative causality with the nonlinear energy "

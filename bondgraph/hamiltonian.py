@@ -126,7 +126,7 @@ from .model import Model
 from .parameters import ParameterValues, exact_value, match_values, real_value
 from ._hamiltonian_parts import (PortHamiltonianError, _check_elements, _col,
                                  _collocated, _energy, _input_derivative_error, _input_matrix,
-                                 _coefficients, _inverse, _cancel, _nonconservative,
+                                 _coefficients, _inverse, _block_inverse, _cancel, _nonconservative,
                                  _rederive, _storage, _stored, _verify, _stored_signals)
 
 __all__ = ["PortHamiltonian", "PortHamiltonianError", "port_hamiltonian", "energy"]
@@ -472,7 +472,8 @@ def port_hamiltonian(model: Model) -> PortHamiltonian:
             raise PortHamiltonianError(f"model {model.name!r}: {exc}") from exc
         A, B = ss.A, ss.B
         Cy, Dy = ss.C.extract(rows, list(range(len(x)))), ss.D.extract(rows, list(range(len(u))))
-        Qinv = _inverse(Matrix(hess), model)
+        Qinv = (_block_inverse(storage, x, hess, model) if not dependent else
+                _inverse(Matrix(hess), model))
         F, Cz = _cancel(A * Qinv), _cancel(Cy * Qinv)
     else:
         # nonlinear storage, integral causality only: the Hessian is diagonal, phi_i'(x_i)

@@ -64,6 +64,8 @@ Energy (the port-Hamiltonian form, :mod:`bondgraph.hamiltonian`)
       integral causality; empty for an element that stores no energy;
     * :meth:`Element.stored_energy` -- its energy from those quantities
       (``p**2/(2 m)``, ``q^T K q / 2``);
+    * :meth:`Element.energy_hessian_inverse` -- the inverse of its energy's
+      Hessian when known without inverting (a mass or compliance matrix);
     * :meth:`Element.hamiltonian_error` -- why it has no constant
       port-Hamiltonian form (a modulated two-port, a nonlinear R, a valued
       source), or None;
@@ -496,6 +498,11 @@ class Element:
     def stored_energy(self, quantities: Sequence[sympy.Expr]) -> sympy.Expr:
         """Its stored energy, given the values of :meth:`energy_signals`."""
         return sympy.Integer(0)
+
+    def energy_hessian_inverse(self) -> Optional[sympy.ImmutableMatrix]:
+        """The inverse of the Hessian of :meth:`stored_energy` when it is constant and known
+        without inverting (``[[m]]`` of a linear I, the mass matrix of an ``IField``), or None."""
+        return None
 
     def hamiltonian_error(self, dependent: bool) -> Optional[str]:
         """Why the element prevents a constant port-Hamiltonian form (naming it), or None;
