@@ -155,6 +155,23 @@ def test_inertia_field_with_one_port_driven_by_a_flow_source_matches_the_hand_re
     assert zero(p2 - (m12 * f1 + m2 * V))
 
 
+def test_field_rigidly_joined_to_another_field_gives_the_summed_mass_matrix():
+    # IF:A (p = M_A v on v1, v2) and a one-port IF:B (mass mb) on v2: B is in derivative
+    # causality.  Lagrange: T = v^T M_A v/2 + mb v2^2/2, so (M_A + diag(0, mb)) v' = (F, 0).
+    m1, m2, m12, mb = pos("m1 m2 m12 mb")
+    MA = sympy.Matrix([[m1, m12], [m12, m2]])
+    g = build("joined", [bg.Se("F"), bg.One("v1"), bg.One("v2"), bg.IField("A", MA),
+                         bg.IField("B", [[mb]])],
+              [("F", "v1"), ("v1", "A"), ("v2", "A"), ("v2", "B")])
+    model = bg.derive(g)
+    assert model.state_names == ("p_A_1", "p_A_2") and model.augmented.derivative == ("B",)
+    F = sympy.Symbol("F", real=True)
+    dv = MA.inv() * sympy.Matrix(model.rhs)          # v' = M_A^-1 p_A'
+    want = (MA + sympy.diag(0, mb)).inv() * sympy.Matrix([F, 0])
+    assert all(zero(a - b) for a, b in zip(dv, want))
+    assert model.descriptor is not None
+
+
 # ------------------------------------------------------------------ RField
 def test_coupled_dampers_receiving_flows_match_newton():
     r11, r12, r22, ma, mb = pos("r11 r12 r22 ma mb")
