@@ -155,6 +155,26 @@ def test_inertia_field_with_one_port_driven_by_a_flow_source_matches_the_hand_re
     assert zero(p2 - (m12 * f1 + m2 * V))
 
 
+def test_stiffness_field_with_one_port_held_at_a_given_force():
+    # e = K q; port 1 carries a mass m (integral: q1 a state), port 2 is held by a force E
+    # (the field receives the effort: derivative causality).  By hand: E = k12 q1 + k22 q2
+    # gives q2 = (E - k12 q1)/k22, e1 = k11 q1 + k12 q2, and port 2 moves at dq2/dt.
+    k11, k12, k22, m = pos("k11 k12 k22 m")
+    g = build("held", [bg.One("v"), bg.I("m"), bg.Se("E"),
+                       bg.CField("K", stiffness=[[k11, k12], [k12, k22]])],
+              [("v", "m"), ("v", "K"), ("E", "K")])
+    model = bg.derive(g, outputs={"f2": bg.flow("K", port=2), "q2": bg.displacement("K", port=2)})
+    assert model.state_names == ("p_m", "q_K_1") and model.augmented.derivative == ("K",)
+    E, dE, p, q1 = real("E dE/dt p_m q_K_1")
+    q2 = (E - k12 * q1) / k22
+    rhs = dict(zip(model.state_names, model.rhs))
+    assert zero(rhs["p_m"] + k11 * q1 + k12 * q2)              # m v' = -e1
+    assert zero(rhs["q_K_1"] - p / m)
+    f2, x2 = model.output_exprs
+    assert zero(x2 - q2)
+    assert zero(f2 - (dE - k12 * p / m) / k22)                 # dq2/dt, into the field
+
+
 def test_field_rigidly_joined_to_another_field_gives_the_summed_mass_matrix():
     # IF:A (p = M_A v on v1, v2) and a one-port IF:B (mass mb) on v2: B is in derivative
     # causality.  Lagrange: T = v^T M_A v/2 + mb v2^2/2, so (M_A + diag(0, mb)) v' = (F, 0).
