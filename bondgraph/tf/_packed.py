@@ -45,7 +45,7 @@ import numpy as np
 
 from ._determinants import determinant
 from ._encode import EncodedSystem
-from ._rings import Ring, _FlintRing, make_ring
+from ._rings import Ring, _FlintRing
 
 __all__ = ["Terms", "packed_determinants", "can_pack"]
 
@@ -122,7 +122,7 @@ class _Packing:
             self.group.append(g)
             self.offset.append(off)
             off += b
-        self.ring = make_ring(g + 1, "flint")
+        self.ring = _FlintRing(g + 1)
         gens = [self.ring.gen(i) for i in range(g + 1)]
         self.images = [gens[gi] ** (1 << off) for gi, off in zip(self.group, self.offset)]
 
