@@ -88,14 +88,23 @@ def field_matrix(value: object, *, owner: str, what: str, ports: int | None = No
 
 
 def check_definite(values: np.ndarray, *, owner: str, what: str, definite: bool = True) -> None:
-    """Refuse a numeric symmetric matrix that is not positive (semi-)definite."""
-    lam = np.linalg.eigvalsh((values + values.T) / 2)
-    scale = max(1.0, float(np.abs(values).max()))
-    low = float(lam.min())
-    if (definite and low <= 1e-12 * scale) or (not definite and low < -1e-12 * scale):
-        raise FieldError(f"{owner}: the {what} is not positive {'' if definite else 'semi-'}"
-                         f"definite (smallest eigenvalue {low:.6g}); a passive field needs "
-                         f"{'positive' if definite else 'non-negative'} eigenvalues")
+    """Refuse a numeric symmetric matrix that is not positive (semi-)definite.
+
+    ``values`` is one ``(n, n)`` matrix or a ``(P, n, n)`` stack (one per
+    parameter set of a batch); the error names the first failing set.
+    """
+    stack = np.asarray(values, dtype=float)
+    lam = np.linalg.eigvalsh((stack + np.swapaxes(stack, -1, -2)) / 2)[..., 0]
+    scale = np.maximum(1.0, np.abs(stack).max(axis=(-2, -1)))
+    bad = np.atleast_1d(lam <= 1e-12 * scale if definite else lam < -1e-12 * scale)
+    if bad.any():
+        first = int(np.flatnonzero(bad)[0])
+        low = float(np.atleast_1d(lam)[first])
+        where = f"parameter set {first}: " if stack.ndim == 3 else ""
+        raise FieldError(f"{owner}: {where}the {what} is not positive "
+                         f"{'' if definite else 'semi-'}definite (smallest eigenvalue {low:.6g}); "
+                         f"a passive field needs {'positive' if definite else 'non-negative'} "
+                         "eigenvalues")
 
 
 @functools.lru_cache(maxsize=64)

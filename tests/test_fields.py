@@ -361,3 +361,25 @@ def test_bad_inputs_name_the_field():
     with pytest.raises(bg.FieldError, match=r"ICF:X: kinds must be a string of 'I' and 'C'"):
         bg.ICField("X", "IR", matrix=np.eye(2))
     assert issubclass(bg.FieldError, bg.BondGraphError)
+
+
+def test_plant_and_batch_check_the_mass_matrix_definite_at_the_values():
+    # M = [[m, c], [c, m]] has eigenvalues m + c and m - c (by hand): definite iff m > |c|
+    m, c = sympy.symbols("m c", positive=True)
+    g = bg.BondGraph("pair")
+    g.add(bg.Se("F1"), bg.Se("F2"), bg.IField("M", [[m, c], [c, m]]))
+    g.connect("F1", "M")
+    g.connect("F2", "M")
+    nm = bg.compile_plant(bg.derive(g, outputs={"v1": bg.flow("M", port=1)}))
+    # dp/dt = F on both ports; v1 = (M^-1 p)_1 = (m p1 - c p2)/(m^2 - c^2)
+    plant = nm.plant({"m": 2.0, "c": 1.0})
+    np.testing.assert_allclose(plant.B, np.eye(2), atol=1e-15)
+    np.testing.assert_allclose(plant.C, [[2 / 3, -1 / 3]], rtol=1e-14)
+    with pytest.raises(bg.FieldError, match=r"IF:M: the mass matrix is not positive definite "
+                                            r"\(smallest eigenvalue -2\)"):
+        nm.plant({"m": 1.0, "c": 3.0})
+    with pytest.raises(bg.FieldError, match=r"IF:M: parameter set 2: .*smallest eigenvalue -2\b"):
+        nm.batch({"m": np.array([2.0, 2.0, 1.0]), "c": np.array([1.0, 0.0, 3.0])})
+    with pytest.raises(bg.FieldError, match="parameter set 0: .*smallest eigenvalue 0"):
+        nm.batch({"m": np.array([1.0]), "c": np.array([1.0])}, sparse=True)
+    assert nm.batch({"m": np.array([2.0, 2.0]), "c": np.array([1.0, 0.0])}).A.shape == (2, 2, 2)

@@ -62,6 +62,7 @@ from .._labels import control_labels
 from ..model import Model
 from ..values import parameter_symbols
 from ._compile import CompiledFunction, placeholders, user_functions
+from .._fields_algebra import check_definite
 from ._linalg import freeze
 from .batch import BatchStateSpace, SparseBatchStateSpace
 from .errors import NotPicklableError, NumericError, ParameterValueError
@@ -181,6 +182,8 @@ class NumericModel(_CompiledModel):
         self._const_pos = np.array(const_pos, dtype=np.int64)
         self._const_val = np.array(const_val, dtype=float)
         self._fn = CompiledFunction(dummies, exprs) if exprs else None
+        #: fields whose matrix has symbolic entries: checked definite at every evaluation
+        self._definite = _definite_checks(model, swap, dummies)
 
     def __repr__(self) -> str:
         return (f"NumericModel({self._model.name!r}: {len(self.state_names)} states, "
@@ -246,6 +249,18 @@ class NumericModel(_CompiledModel):
             f"model {self._model.name!r}: {where}matrix {self._labels[k]} entry {entry} is "
             f"{value} for {vals_text}{hint}")
 
+    def _check_definite(self, columns: list, size: Optional[int]) -> None:
+        """Each field's matrix positive (semi-)definite at the values (a
+        :class:`~bondgraph.fields.FieldError` naming the field and the first
+        failing parameter set)."""
+        for el, fn, n in self._definite:
+            stack = np.empty(((size or 1), n * n))
+            for k, v in enumerate(fn(*columns)):
+                stack[:, k] = v
+            check_definite(stack.reshape(-1, n, n) if size is not None else stack.reshape(n, n),
+                           owner=el.label(), what=getattr(el, "matrix_name", "matrix"),
+                           definite=el.definite)
+
     def _split(self, mats: list) -> tuple:
         d = self._order
         return tuple(mats[:4]) + (tuple(mats[4:4 + d]), tuple(mats[4 + d:]))
@@ -272,6 +287,7 @@ class NumericModel(_CompiledModel):
         vec = resolve_parameters(self._params, values, model=self._model.name,
                                  known=self._model.known_parameters)
         vals = self._evaluate([np.float64(v) for v in vec], None)
+        self._check_definite([np.float64(v) for v in vec], None)
         self._check_finite(vals, vec, False)
         off = self._offsets
         mats = [p.to_sparse(vals[off[k]:off[k + 1]]) if as_sparse
@@ -311,6 +327,7 @@ class NumericModel(_CompiledModel):
                             known=self._model.known_parameters)
         size = arr.shape[0]
         vals = self._evaluate([arr[:, j] for j in range(arr.shape[1])], size)
+        self._check_definite([arr[:, j] for j in range(arr.shape[1])], size)
         self._check_finite(vals, arr, True)
         freeze(arr)
         names = (self.state_names, self.input_names, self.output_names, self.parameter_names)
@@ -344,6 +361,18 @@ def _reduced_form(model: Model) -> tuple[list, list[str]]:
     labels = (["A", "B", "C", "D"] + [f"D_derivatives[{k}]" for k in range(K)]
               + [f"state_shift[{k}]" for k in range(K)])
     return [sympy.ImmutableSparseMatrix(M) for M in mats], labels
+
+
+def _definite_checks(model: Model, swap: dict, dummies: Sequence[sympy.Symbol]) -> tuple:
+    """``(element, compiled entries, n)`` of every element with a symbolic matrix that must
+    be positive (semi-)definite (the multiport fields: ``matrix`` and ``definite``)."""
+    found = []
+    for el in (model.augmented.flat.elements if model.augmented is not None else ()):
+        M = getattr(el, "matrix", None)
+        if M is None or not hasattr(el, "definite") or not M.free_symbols:
+            continue
+        found.append((el, CompiledFunction(dummies, [e.xreplace(swap) for e in M]), M.rows))
+    return tuple(found)
 
 
 def _elements_using(model: Model, names: Sequence[str]) -> str:
