@@ -202,8 +202,9 @@ def _ring_element(R, rows: np.ndarray, coeffs: list, integer: bool):
     dom = R.domain
     keys = map(tuple, rows.tolist())
     if integer:
-        return R.dtype(dict(zip(keys, (dom.dtype(c if type(c) is int else int(c))
-                                       for c in coeffs))))
+        if not all(type(c) is int for c in coeffs):
+            coeffs = [int(c) for c in coeffs]
+        return R.dtype(dict(zip(keys, map(dom.dtype, coeffs))))
     return R.dtype(dict(zip(keys, (dom(c.numerator, c.denominator) if isinstance(c, Fraction)
                                    else dom(c) for c in coeffs))))
 

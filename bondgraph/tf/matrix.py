@@ -25,6 +25,7 @@ from ._exact import _domain_gens, _poly_values, _value_map
 from .errors import UnknownSignalError
 from .latex import poly_latex
 from .numeric_tf import NumericTransferMatrix
+from ._packed import paused_gc
 from .symbolic_tf import SymbolicTF, _entry, _tf_from_exprs
 
 __all__ = ["TransferMatrix"]
@@ -87,8 +88,9 @@ class TransferMatrix:
         j = _resolve(inp, self.input_names, "input")
         if self._raw is not None:
             conv, dd, nds = self._raw
-            G = _entry(conv, nds[i][j], dd, self.s, self.input_names[j], self.output_names[i],
-                       self.normalize, cancel=True)
+            with paused_gc():
+                G = _entry(conv, nds[i][j], dd, self.s, self.input_names[j],
+                           self.output_names[i], self.normalize, cancel=True)
         else:
             G = _cancel_pair(self.nums[i][j], self.den, self.input_names[j],
                              self.output_names[i], self.normalize)

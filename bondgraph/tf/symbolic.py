@@ -50,7 +50,7 @@ from . import _algebra as alg
 from ._checks import (METHODS, NORMALIZATIONS, Normalize, _check_options, _check_shapes,
                       _resolve, _signal_names)
 from ._convert import _Converter
-from ._packed import can_pack, packed_determinants
+from ._packed import can_pack, packed_determinants, paused_gc
 from ._packed_ops import clear_terms, normalize_terms
 from .errors import InvalidOptionError, SingularPencilError
 from .matrix import TransferMatrix
@@ -181,9 +181,10 @@ def transfer_function(A, B, C, D=None, *, E=None, input: str | int | None = None
                                            normalize, method)
     j = _resolve(input, ins, "input")
     i = _resolve(output, outs, "output")
-    enc, den, nums = _compute(A, B[:, j], C[i, :], D[i, j:j + 1], E, s, method, backend)
-    return _entry(_Converter(enc.ring, enc.params), nums[0][0], den, s, ins[j], outs[i],
-                  normalize, cancel=cancel)
+    with paused_gc():
+        enc, den, nums = _compute(A, B[:, j], C[i, :], D[i, j:j + 1], E, s, method, backend)
+        return _entry(_Converter(enc.ring, enc.params), nums[0][0], den, s, ins[j], outs[i],
+                      normalize, cancel=cancel)
 
 
 def transfer_matrix(A, B, C, D=None, *, E=None, input_names: Sequence[str] | None = None,
@@ -232,10 +233,11 @@ def transfer_matrix(A, B, C, D=None, *, E=None, input_names: Sequence[str] | Non
     """
     A, B, C, D, E, ins, outs, s = _prepare(A, B, C, D, E, input_names, output_names, s,
                                            normalize, method)
-    enc, den, nums = _compute(A, B, C, D, E, s, method, backend)
-    conv = _Converter(enc.ring, enc.params)
-    flat = [x for row in nums for x in row]
-    Pd, Pns = normalize_terms(conv, den, flat, normalize, s)
+    with paused_gc():
+        enc, den, nums = _compute(A, B, C, D, E, s, method, backend)
+        conv = _Converter(enc.ring, enc.params)
+        flat = [x for row in nums for x in row]
+        Pd, Pns = normalize_terms(conv, den, flat, normalize, s)
     m = len(ins)
     rows = tuple(tuple(Pns[i * m:(i + 1) * m]) for i in range(len(outs)))
     raw = (conv, den, tuple(tuple(r) for r in nums))
