@@ -12,6 +12,7 @@ from sympy.core.basic import Basic
 from sympy.core.containers import Dict, Tuple
 from sympy.core.sorting import _node_count
 
+from ._pause import with_paused_gc
 from .errors import NonlinearModelError
 from .signals import t as T_SYM
 from .values import as_expr
@@ -95,6 +96,7 @@ def _derivative_orders(model: Model) -> dict[sympy.Symbol, tuple[int, int]]:
     return out
 
 
+@with_paused_gc
 def _linear_form(exprs, x, u, model: Model, what: str, lhs: str, ud=None):
     """Sparse ``(M_x, M_u)`` with ``exprs = M_x x + M_u u``; checks linearity.
 

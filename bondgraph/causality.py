@@ -44,6 +44,7 @@ from typing import Union
 
 import networkx as nx
 
+from ._pause import with_paused_gc
 from .errors import CausalityConflictError, CausalityError
 from .flatten import FlatGraph, flatten
 from .graph import Bond, BondGraph
@@ -154,6 +155,7 @@ class AugmentedBondGraph:
         return "\n".join(lines)
 
 
+@with_paused_gc
 def assign_causality(graph: Union[BondGraph, FlatGraph], *,
                      prefer_derivative: frozenset = frozenset()) -> AugmentedBondGraph:
     """Assign causality to every bond by SCAP.

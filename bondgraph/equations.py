@@ -38,6 +38,7 @@ from typing import Mapping, Optional, Union
 
 import sympy
 
+from ._pause import with_paused_gc
 from .causality import AugmentedBondGraph, assign_causality, dependencies
 from .errors import (AlgebraicLoopError, BondGraphWarning, CausalityError, NameClashError,
                      OutputError)
@@ -480,6 +481,7 @@ class _Deriver:
         return tuple(near)
 
     # ------------------------------------------------------------ main
+    @with_paused_gc
     def run(self) -> Model:
         self._make_symbols()
         self._break_dependent()

@@ -37,8 +37,6 @@ Examples
 
 from __future__ import annotations
 
-import contextlib
-import gc
 import random
 from fractions import Fraction
 from typing import Any, Sequence
@@ -49,37 +47,10 @@ from ._determinants import determinant
 from ._encode import EncodedSystem
 from ._rings import Ring, _FlintRing
 
-__all__ = ["Terms", "packed_determinants", "can_pack", "paused_gc"]
+__all__ = ["Terms", "packed_determinants", "can_pack"]
 
 #: bits of one packed variable (flint keeps one machine word per variable)
 _WORD = 62
-
-
-@contextlib.contextmanager
-def paused_gc():
-    """The cyclic garbage collector off while a large answer is built.
-
-    Building the sympy coefficients of a 700,000-term denominator allocates
-    millions of tuples and dicts (no reference cycles); the collector's
-    full passes over them cost about a third of the time.  Its previous
-    state is restored on exit.
-
-    Examples
-    --------
-    >>> import gc
-    >>> with paused_gc():
-    ...     gc.isenabled()
-    False
-    >>> gc.isenabled()
-    True
-    """
-    was = gc.isenabled()
-    gc.disable()
-    try:
-        yield
-    finally:
-        if was:
-            gc.enable()
 
 
 class Terms:

@@ -25,7 +25,7 @@ from ._exact import _domain_gens, _poly_values, _value_map
 from .errors import UnknownSignalError
 from .latex import poly_latex
 from .numeric_tf import NumericTransferMatrix
-from ._packed import paused_gc
+from .._pause import paused_gc
 from .symbolic_tf import SymbolicTF, _entry, _tf_from_exprs
 
 __all__ = ["TransferMatrix"]

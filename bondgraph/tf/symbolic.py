@@ -50,7 +50,8 @@ from . import _algebra as alg
 from ._checks import (METHODS, NORMALIZATIONS, Normalize, _check_options, _check_shapes,
                       _resolve, _signal_names)
 from ._convert import _Converter
-from ._packed import can_pack, packed_determinants, paused_gc
+from .._pause import paused_gc
+from ._packed import can_pack, packed_determinants
 from ._packed_ops import clear_terms, normalize_terms
 from .errors import InvalidOptionError, SingularPencilError
 from .matrix import TransferMatrix
