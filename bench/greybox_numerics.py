@@ -18,7 +18,7 @@ matrices: with the cores busy its calls stall (see the latency percentiles in
 part 1 and the fit times in part 3; compare a run with
 ``OPENBLAS_NUM_THREADS=1``).  ``_central_jacobian`` is copied below, as it was.
 
-Problems, the sizes of tests/test_greybox.py and tests/test_validation_models.py:
+Problems, the sizes of tests/identification/test_greybox.py and tests/models/test_validation.py:
 
 * SRV-02 hub (2 states, 1 input, dt = 5 ms) and FLEXCAM system formulation with
   3 modes (8 states, dt = 1 ms): exponentials of the zoh (n+1) and foh (n+2)
@@ -30,7 +30,7 @@ Problems, the sizes of tests/test_greybox.py and tests/test_validation_models.py
   standard error is known), FLEXCAM frequency-domain ``k_1..k_3`` (Welch FRF
   of 60 s of lsim data), FLEXCAM time-domain ``k_1..k_3`` (first 4 s of the
   same record, first-order hold), and the mass-spring-damper of
-  tests/test_greybox.py with 5 % noise; three variants of ``greybox_fit``:
+  tests/identification/test_greybox.py with 5 % noise; three variants of ``greybox_fit``:
   ``old`` (forward differences, ``_central_jacobian`` at the end, ``_discretize``),
   ``shipped`` (``jac="3-point"``, ``_discretize``) and ``c2d`` (``jac="3-point"``,
   ``cont2discrete``).  Reported: time, residual evaluations (Jacobian ones
@@ -161,7 +161,7 @@ def fmt(lat: tuple[float, float, float]) -> str:
 
 # ----------------------------------------------------------- problems
 def hub_problem():
-    """SRV-02 hub, as tests/test_validation_models.py: 8000 samples at 200 Hz, noise."""
+    """SRV-02 hub, as tests/models/test_validation.py: 8000 samples at 200 Hz, noise."""
     import srv02
 
     model = bg.derive(srv02.build(inductance=False), outputs=srv02.outputs())
@@ -178,7 +178,7 @@ def hub_problem():
 
 
 def flex_problem():
-    """FLEXCAM system formulation, 3 modes, 2 % damping, as tests/test_validation_models.py."""
+    """FLEXCAM system formulation, 3 modes, 2 % damping, as tests/models/test_validation.py."""
     import flexcam
 
     g, outs, params = flexcam.build(3, formulation="system", damping_ratio=0.02)

@@ -1,8 +1,29 @@
 """bondgraph: bond graphs to symbolic state equations, transfer functions and plants.
 
-The pipeline, one module each: :mod:`~bondgraph.graph` (build) ->
-:mod:`~bondgraph.flatten` (sub-models) -> :mod:`~bondgraph.causality` (SCAP) ->
-:mod:`~bondgraph.equations` (derive) -> :mod:`~bondgraph.model` (state space).
+The pipeline, one stage per folder or module, each importing only the stages
+before it (checked by ``tests/test_layering.py``)::
+
+    elements/      Se, Sf, I, C, R, TF, GY, MTF, MGY, 0, 1, Port, fields, Bond
+        |          (the element protocol: the algorithms ask, the element answers)
+    graph          BondGraph            mutable builder of frozen elements
+    flatten        FlatGraph            sub-models joined, hierarchical names
+    causality      AugmentedBondGraph   SCAP strokes, derivative causality, loops
+    equations/     StateEquations       x' = f(x, u), y = g(x, u): the frozen record
+    tf/            SymbolicTF           transfer functions of (A, B, C, D, E)
+    linear/        SymbolicStateSpace   linear forms, linearization, equilibria
+    numeric/       NumericStateSpace    compiled plants, simulation, plants at a point
+    hamiltonian/   PortHamiltonian      x' = (J - R) grad H + G u
+    model          Model, derive        the record with its verbs (the facade)
+
+then the consumers of a :class:`Model`: :mod:`~bondgraph.export`,
+:mod:`~bondgraph.modelfile`, :mod:`~bondgraph.codegen`, :mod:`~bondgraph.fmu`,
+:mod:`~bondgraph.drawing`, :mod:`~bondgraph.plots`,
+:mod:`~bondgraph.identification`, :mod:`~bondgraph.study`,
+:mod:`~bondgraph.beam`, :mod:`~bondgraph.cli`.  Beside them:
+:mod:`~bondgraph.errors`, :mod:`~bondgraph.signals`,
+:mod:`~bondgraph.parameters` (the parameter policy),
+:mod:`~bondgraph.examples` (stock graphs) and :mod:`~bondgraph.testing`
+(the element conformance checks).
 
 Examples
 --------
@@ -19,25 +40,25 @@ Matrix([
 [  K/La, -b/J]])
 """
 
-from .causality import AugmentedBondGraph, CausalBond, assign_causality
-from .elements import GY, MGY, MTF, TF, C, Element, I, One, Port, R, Se, Sf, Zero
-from .equations import derive
-from .fields import CField, FieldError, ICField, IField, RField
 from .errors import (AlgebraicLoopError, BondGraphError, BondGraphWarning, CausalityConflictError,
                      CausalityError, DuplicateNameError, LawError, ModelStructureError,
                      MissingValueError, NameClashError, NonlinearModelError, OutputError,
                      ParameterError, ParameterValueError, PortError, UnknownElementError)
-from .flatten import FlatGraph, flatten
-from .graph import Bond, BondGraph
-from .model import Model
 from .signals import Signal, displacement, e, effort, f, flow, momentum, p, q, t
-from .statespace import SymbolicStateSpace
-from .modelfile import ModelDefinition, ModelFileError, load_model
+from .elements import (GY, MGY, MTF, TF, Bond, C, CField, Element, FieldError, I, ICField, IField,
+                       One, Port, R, RField, Se, Sf, Zero)
+from .graph import BondGraph
+from .flatten import FlatGraph, flatten
+from .causality import AugmentedBondGraph, CausalBond, assign_causality
+from .linear import SymbolicStateSpace
 from .numeric import (BatchStateSpace, ImproperPlantError, NumericModel, NumericStateSpace,
                       SimulationResult, compile_plant, numeric_plant, simulate,
                       to_nonlinear_iosys)
+from .model import Model, derive
+from .modelfile import ModelDefinition, ModelFileError, load_model
 from .export import ExportError
 from .drawing import draw
+from ._support import moved as _moved
 
 __version__ = "0.1.0"
 
@@ -60,6 +81,14 @@ __all__ = [
 ]
 
 __all__ += ["sweep", "sensitivity"]
+
+
+# a traceback names the exception where users import it: bondgraph.FieldError
+for _exc in (FieldError, ModelFileError, ExportError, ImproperPlantError):
+    _exc.__module__ = __name__
+del _exc
+
+_moved.install()
 
 
 def __getattr__(name: str):

@@ -1,7 +1,7 @@
 """Causality by the Sequential Causality Assignment Procedure (SCAP).
 
 The rules are the elements' own (the element protocol,
-:mod:`bondgraph.protocol`); this module only searches.  Forced decisions first
+:mod:`bondgraph.elements.protocol`); this module only searches.  Forced decisions first
 (sources), then the elements' choice points by priority (storage elements one
 at a time with integral causality preferred, then R elements where a choice
 remains), then any junction bond still open; after each decision the elements
@@ -44,11 +44,11 @@ from typing import Union
 
 import networkx as nx
 
-from ._pause import with_paused_gc
+from ._support.gcpause import with_paused_gc
 from .errors import CausalityConflictError, CausalityError
 from .flatten import FlatGraph, flatten
 from .graph import Bond, BondGraph
-from .protocol import ARBITRARY, DERIVATIVE, INTEGRAL, CausalPorts, Element
+from .elements.protocol import ARBITRARY, DERIVATIVE, INTEGRAL, CausalPorts, Element
 
 __all__ = ["AugmentedBondGraph", "CausalBond", "assign_causality", "dependencies"]
 

@@ -104,7 +104,7 @@ FORMATS = {".mat": "mat", ".npz": "npz", ".json": "json"}
 #: code (C with its header, MATLAB/Octave, Python) and FMUs; the one table the CLI reads
 EXPORT_FORMATS = {**FORMATS, ".c": "c", ".m": "m", ".py": "py", ".fmu": "fmu"}
 
-from .files import (ExportError, HugeInt, PathLike, _short, _target, _unlink, atomic_write,  # noqa: F401
+from ._support.files import (ExportError, HugeInt, PathLike, short_repr, target_path, unlink_quietly, atomic_write,  # noqa: F401
                     atomic_write_many, checked_path, decode_json, number_problem)
 
 
@@ -274,7 +274,7 @@ def load_npz(path: PathLike) -> NumericStateSpace:
     >>> back.is_sparse, back.A.toarray().tolist(), dict(back.parameters)
     (True, [[-1.0, 0.0], [1.0, -2.0]], {'k': 2.0})
     """
-    target = _target(path)
+    target = target_path(path)
     where = str(target)
 
     def fail(message: str) -> ExportError:
@@ -404,7 +404,7 @@ def export_json(plant: NumericStateSpace, path: PathLike) -> None:
     """
     _check_exportable(plant)
     doc = to_json_dict(plant)
-    where = os.fspath(_target(path))
+    where = os.fspath(target_path(path))
     for key in ("A", "B", "C", "D"):
         matrix = getattr(plant, key)
         matrix = matrix.toarray() if issparse(matrix) else np.asarray(matrix)
@@ -460,7 +460,7 @@ def load_json(path: PathLike) -> NumericStateSpace:
     >>> back.name, back.state_names, back.B, dict(back.parameters)
     ('lag', ('x',), array([[1.]]), {'tau': 1.0})
     """
-    target = _target(path)
+    target = target_path(path)
     try:
         raw = target.read_bytes()
     except OSError as exc:
@@ -488,7 +488,7 @@ def _plant_from_document(doc: Any, where: str) -> NumericStateSpace:
         raise fail('missing key "version"')
     version = doc["version"]
     if isinstance(version, bool) or not isinstance(version, int):
-        raise fail(f'"version" must be an integer; got {type(version).__name__} {_short.repr(version)}')
+        raise fail(f'"version" must be an integer; got {type(version).__name__} {short_repr.repr(version)}')
     if version != FORMAT_VERSION:
         raise fail(f"unsupported {FORMAT_NAME} version {version}; this bondgraph reads version "
                    f"{FORMAT_VERSION} only")
@@ -501,7 +501,7 @@ def _plant_from_document(doc: Any, where: str) -> NumericStateSpace:
         raise fail(f"missing keys {', '.join(missing)}")
     model = doc.get("model", "")
     if not isinstance(model, str):
-        raise fail(f'"model" must be a string; got {type(model).__name__} {_short.repr(model)}')
+        raise fail(f'"model" must be a string; got {type(model).__name__} {short_repr.repr(model)}')
     names = {key: _json_names(doc[key], key, fail) for key in ("states", "inputs", "outputs")}
     n, m, p = (len(names[k]) for k in ("states", "inputs", "outputs"))
     sizes = {"A": (n, n, "states", "states"), "B": (n, m, "states", "inputs"),
@@ -510,7 +510,7 @@ def _plant_from_document(doc: Any, where: str) -> NumericStateSpace:
     params_doc = doc.get("parameters", {})
     if not isinstance(params_doc, dict):
         raise fail(f'"parameters" must be an object of names to numbers; got '
-                   f"{type(params_doc).__name__} {_short.repr(params_doc)}")
+                   f"{type(params_doc).__name__} {short_repr.repr(params_doc)}")
     params = {}
     for key, value in params_doc.items():
         problem = number_problem(value)
@@ -526,11 +526,11 @@ def _plant_from_document(doc: Any, where: str) -> NumericStateSpace:
 
 def _json_names(value: Any, key: str, fail: Callable[[str], ExportError]) -> tuple[str, ...]:
     if not isinstance(value, list):
-        raise fail(f'"{key}" must be a list of names; got {type(value).__name__} {_short.repr(value)}')
+        raise fail(f'"{key}" must be a list of names; got {type(value).__name__} {short_repr.repr(value)}')
     seen: set[str] = set()
     for k, name in enumerate(value):
         if not isinstance(name, str):
-            raise fail(f'"{key}"[{k}] must be a string; got {type(name).__name__} {_short.repr(name)}')
+            raise fail(f'"{key}"[{k}] must be a string; got {type(name).__name__} {short_repr.repr(name)}')
         if name in seen:
             raise fail(f'"{key}" names {name!r} twice')
         seen.add(name)
@@ -581,7 +581,7 @@ def export(plant: NumericStateSpace, path: PathLike, *, format: Optional[str] = 
     >>> export(ss, "plant.txt")
     Traceback (most recent call last):
     ...
-    bondgraph.files.ExportError: cannot tell the format of 'plant.txt': give format= one of mat, npz, json, or use a .mat, .npz or .json file name
+    bondgraph.ExportError: cannot tell the format of 'plant.txt': give format= one of mat, npz, json, or use a .mat, .npz or .json file name
     """
     fmt = format
     if fmt is None:

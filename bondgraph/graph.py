@@ -20,43 +20,12 @@ Examples
 from __future__ import annotations
 
 import copy
-from dataclasses import dataclass
 from typing import Iterable, Iterator, Union
 
-from .elements import Element, Port, check_name
+from .elements import Bond, Element, Port, check_name
 from .errors import DuplicateNameError, ModelStructureError, PortError, UnknownElementError
 
 __all__ = ["BondGraph", "Bond", "Endpoint"]
-
-
-@dataclass(frozen=True)
-class Bond:
-    """A power bond from ``tail`` to ``head`` (the half-arrow end).
-
-    ``number`` is the creation order within the graph that holds it (from 1).
-    Endpoint names are paths: ``"Ra"`` or, for a sub-model port, ``"motor.shaft"``.
-    Bonds are returned by :meth:`BondGraph.connect`.
-
-    Examples
-    --------
-    >>> import bondgraph as bg
-    >>> g = bg.BondGraph("mass")
-    >>> g.add(bg.Se("F"), bg.I("m"))
-    >>> b = g.connect("F", "m")
-    >>> b, str(b), b.other("F")
-    (Bond(number=1, tail='F', head='m'), '1: F -> m', 'm')
-    """
-
-    number: int
-    tail: str
-    head: str
-
-    def __str__(self) -> str:
-        return f"{self.number}: {self.tail} -> {self.head}"
-
-    def other(self, name: str) -> str:
-        """The endpoint that is not ``name``."""
-        return self.head if name == self.tail else self.tail
 
 
 Endpoint = Union[Element, str, "BondGraph"]

@@ -1,36 +1,46 @@
-"""The derived model: an immutable record of state equations and outputs.
+"""The façade: :class:`Model`, the derived record with its verbs, and :func:`derive`.
 
-A :class:`Model` is returned by :func:`bondgraph.derive`.  It keeps the
-explicit equations ``x' = f(x, u)`` and ``y = g(x, u)``, the descriptor form
-``E(x) x' = F(x, u)`` when derivative causality was present, and the
-augmented bond graph it came from.
+A :class:`Model` is the frozen :class:`~bondgraph.equations.StateEquations`
+record (state equations, outputs, the augmented bond graph they came from)
+with the methods a user reaches for.  Each method is a few lines calling down
+into the stage that owns the work:
+
+=========================  ==============================================
+method                     stage
+=========================  ==============================================
+``state_space``,           :mod:`bondgraph.linear` (linear forms, cached)
+``descriptor_form``,
+``transfer_function``,
+``transfer_matrix``,
+``linearize`` (symbolic)
+``equilibrium``            :mod:`bondgraph.linear.operating`
+``linearize`` (numeric)    :func:`bondgraph.numeric.linear_plant`
+``port_hamiltonian``,      :mod:`bondgraph.hamiltonian`
+``energy``
+``to_latex``               :mod:`bondgraph.linear.latex`
+=========================  ==============================================
 """
 
 from __future__ import annotations
 
-import dataclasses
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Optional
+from typing import Union, cast
 
 import sympy
 
-from ._labels import latex_dot, latex_name, tex
-from ._linear import _derivative_orders, _linear_form, _point, _residual  # noqa: F401
 from .causality import AugmentedBondGraph
-from .errors import NonlinearModelError
-from .signals import t as T_SYM
-from .statespace import SymbolicStateSpace
-from .values import parameter_symbols
+from .equations import StateEquations, derive_equations
+from .equations.derive import OutputSpec
+from .graph import BondGraph
+from .hamiltonian import PortHamiltonian, energy, port_hamiltonian
+from . import linear
+from .linear import Equilibrium, SymbolicStateSpace
+from .linear.latex import equations_latex, model_latex
+from .numeric import linear_plant
 
-if TYPE_CHECKING:
-    from .hamiltonian import PortHamiltonian
-    from .operating import Equilibrium
-
-__all__ = ["Model"]
+__all__ = ["Model", "derive"]
 
 
-@dataclass(frozen=True)
-class Model:
+class Model(StateEquations):
     """Symbolic state equations of a bond graph.
 
     Attributes
@@ -55,7 +65,7 @@ class Model:
         integrates (``("x", "displacement[m]")``).  A displacement or
         momentum whose flow or effort is a constant combination of state
         derivatives adds none: it is that combination of states (see
-        :mod:`bondgraph.integrators`).
+        :mod:`bondgraph.equations.integrators`).
 
     Examples
     --------
@@ -76,98 +86,13 @@ class Model:
       x = q_k
     """
 
-    name: str
-    augmented: AugmentedBondGraph = field(repr=False)
-    states: tuple[sympy.Symbol, ...]
-    inputs: tuple[sympy.Symbol, ...]
-    output_names: tuple[str, ...]
-    rhs: tuple[sympy.Expr, ...] = field(repr=False)
-    output_exprs: tuple[sympy.Expr, ...] = field(repr=False)
-    input_derivatives: tuple[sympy.Symbol, ...] = field(default=(), repr=False)
-    descriptor: Optional[tuple] = field(default=None, repr=False)
-    storage_states: int = field(default=0, repr=False)
-    integrators: tuple[tuple[str, str], ...] = field(default=(), repr=False)
-    #: parameter names a model definition declares beyond its elements' (the
-    #: defaults of a model file that serves several variants)
-    declared_parameters: tuple[str, ...] = field(default=(), repr=False)
-    #: results computed once per model (state_space, descriptor_form); not part of equality
-    _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False)
-
-    # ----------------------------------------------------------------- names
-    @property
-    def state_names(self) -> tuple[str, ...]:
-        return tuple(s.name for s in self.states)
-
-    @property
-    def input_names(self) -> tuple[str, ...]:
-        return tuple(s.name for s in self.inputs)
-
-    @property
-    def parameters(self) -> tuple[sympy.Symbol, ...]:
-        """Parameter symbols appearing in the equations, sorted by name."""
-        known = set(self.states) | set(self.inputs) | set(self.input_derivatives) | {T_SYM}
-        syms = set()
-        for ex in self.rhs + self.output_exprs:
-            syms |= ex.free_symbols
-        if self.descriptor is not None:
-            syms |= self.descriptor[0].free_symbols
-        return tuple(sorted(syms - known, key=lambda s: s.name))
-
-    @property
-    def known_parameters(self) -> tuple[str, ...]:
-        """Names of every parameter of the model definition, sorted.
-
-        A superset of :attr:`parameters`: it also holds parameters of
-        elements whose value does not reach the equations (an inertia in
-        derivative causality with no output on it, a parameter that dropped
-        out of a linearization).  Values given for these are accepted and
-        ignored by every call that takes values (:mod:`bondgraph.parameters`).
-        """
-        names = {p.name for p in self.parameters} | set(self.declared_parameters)
-        elements = self.augmented.flat.elements if self.augmented is not None else ()
-        for el in elements:
-            names |= {s.name for s in parameter_symbols(el)}
-        return tuple(sorted(names))
-
-    @property
-    def equations(self) -> tuple[sympy.Eq, ...]:
-        r"""``Eq(Derivative(x, t), f)`` for each state, then ``Eq(y, g)``.
-
-        The derivatives are unevaluated (``sympy.latex`` prints
-        ``\frac{d}{d t} p_{m}``); :meth:`to_latex` prints the dotted form.
-
-        Examples
-        --------
-        >>> import bondgraph as bg
-        >>> g = bg.BondGraph("mass")
-        >>> g.add(bg.Se("F"), bg.I("m")); _ = g.connect("F", "m")
-        >>> bg.derive(g, outputs={"v": bg.flow("m")}).equations
-        (Eq(Derivative(p_m, t), F), Eq(v, p_m/m))
-        """
-        eqs = [sympy.Eq(sympy.Derivative(s, T_SYM, evaluate=False), r, evaluate=False)
-               for s, r in zip(self.states, self.rhs)]
-        eqs += [sympy.Eq(sympy.Symbol(n), g, evaluate=False)
-                for n, g in zip(self.output_names, self.output_exprs)]
-        return tuple(eqs)
-
-    def __str__(self) -> str:
-        lines = [f"model {self.name!r}: {len(self.states)} states, {len(self.inputs)} inputs, "
-                 f"{len(self.output_names)} outputs"]
-        for s, r in zip(self.states, self.rhs):
-            lines.append(f"  d{s.name}/dt = {r}")
-        for n, g in zip(self.output_names, self.output_exprs):
-            lines.append(f"  {n} = {g}")
-        return "\n".join(lines)
+    __slots__ = ()
 
     # ----------------------------------------------------------------- linear forms
     @property
     def is_linear(self) -> bool:
         """Whether ``rhs`` and outputs are linear in states and inputs."""
-        try:
-            self.state_space()
-        except NonlinearModelError:
-            return False
-        return True
+        return linear.is_linear(self)
 
     def state_space(self) -> SymbolicStateSpace:
         """A, B, C, D of a linear model (sympy ImmutableMatrix), with names.
@@ -189,69 +114,14 @@ class Model:
         >>> ss.A, ss.B, ss.C, ss.D
         (Matrix([[-1/(C*R)]]), Matrix([[1/R]]), Matrix([[1/C]]), Matrix([[0]]))
         """
-        if "state_space" not in self._cache:
-            x, u = self.states, self.inputs
-            A, B = _linear_form(self.rhs, x, u, self, "state equation", "x'")
-            C, D = _linear_form(self.output_exprs, x, u, self, "output", "y")
-            self._cache["state_space"] = SymbolicStateSpace(
-                A, B, C, D, self.state_names, self.input_names, self.output_names,
-                known_parameters=self.known_parameters)
-        return self._cache["state_space"]
+        return linear.state_space(self)
 
-    def _laplace_system(self, descriptor: bool, s: sympy.Symbol, outputs=None):
-        """``A, B(s), C, D(s), E`` of the Laplace-transformed equations.
+    def descriptor_form(self) -> SymbolicStateSpace:
+        """``E x' = A x + B u`` as derived, before eliminating dependent storage.
 
-        Input derivatives enter as powers of ``s`` (zero initial conditions):
-        ``x' = A x + B0 u + B1 u'`` gives ``B(s) = B0 + s B1``, likewise for
-        ``D``.  ``outputs``: indices of the outputs to linearize (default all).
+        Without derivative causality ``E`` is the identity.  Computed once per model.
         """
-        x, u = self.states, self.inputs
-        ud = self.input_derivatives
-        orders = _derivative_orders(self) if ud else {}
-        outs = range(len(self.output_exprs)) if outputs is None else outputs
-        out_exprs = [self.output_exprs[i] for i in outs]
-        if descriptor and self.descriptor is not None:
-            E, F = self.descriptor
-            if E.free_symbols & (set(x) | set(u) | set(ud)):
-                raise NonlinearModelError(f"model {self.name!r}: E depends on the states")
-            A, B, B1 = _linear_form(F, x, u, self, "state equation", "F", ud)
-        else:
-            E = None
-            A, B, B1 = _linear_form(self.rhs, x, u, self, "state equation", "x'", ud)
-        C, D, D1 = _linear_form(out_exprs, x, u, self, "output", "y", ud)
-
-        def with_s(M0, M1):
-            if not ud:
-                return M0
-            M = sympy.Matrix(M0)
-            for (i, k), c in M1.todok().items():
-                j, order = orders[ud[k]]
-                M[i, j] += c * s**order
-            return sympy.ImmutableMatrix(M)
-        return A, with_s(B, B1), C, with_s(D, D1), E
-
-    def _derivative_form(self):
-        """``A, (B0, B1, ..), C, (D0, D1, ..)`` of the explicit equations
-        ``x' = A x + sum_k B_k u^(k)``, ``y = C x + sum_k D_k u^(k)``.
-
-        Without input derivatives the tuples have one matrix (``state_space``).
-        """
-        x, u, ud = self.states, self.inputs, self.input_derivatives
-        if not ud:
-            ss = self.state_space()
-            return ss.A, (ss.B,), ss.C, (ss.D,)
-        orders = _derivative_orders(self)
-        A, B, B1 = _linear_form(self.rhs, x, u, self, "state equation", "x'", ud)
-        C, D, D1 = _linear_form(self.output_exprs, x, u, self, "output", "y", ud)
-        top = max(k for _, k in orders.values())
-
-        def split(M0, M1):
-            mats = [M0] + [sympy.zeros(*M0.shape) for _ in range(top)]
-            for (i, c), val in M1.todok().items():
-                j, k = orders[ud[c]]
-                mats[k][i, j] += val
-            return (M0,) + tuple(sympy.ImmutableSparseMatrix(M) for M in mats[1:])
-        return A, split(B, B1), C, split(D, D1)
+        return linear.descriptor_form(self)
 
     def transfer_function(self, input=None, output=None, *, descriptor: bool | None = None,
                           **options):
@@ -291,17 +161,7 @@ class Model:
         >>> G.expr, G.is_proper
         (b + m*s, False)
         """
-        from .tf import transfer_function
-        from .tf.symbolic import _resolve
-
-        use_e = self.descriptor is not None if descriptor is None else descriptor
-        s = options.pop("s", None) or sympy.Symbol("s")
-        i = _resolve(output, self.output_names, "output")
-        A, B, C, D, E = self._laplace_system(use_e, s, [i])
-        G = transfer_function(A, B, C, D, E=E, input=input, output=0,
-                              input_names=self.input_names,
-                              output_names=(self.output_names[i],), s=s, **options)
-        return dataclasses.replace(G, known_parameters=self.known_parameters)
+        return linear.transfer_function(self, input, output, descriptor=descriptor, **options)
 
     def transfer_matrix(self, **options):
         """All input/output transfer functions over one denominator (see :mod:`bondgraph.tf`).
@@ -309,13 +169,7 @@ class Model:
         Input derivatives are handled as in :meth:`transfer_function`: an
         entry that involves one may be improper, the others are unchanged.
         """
-        from .tf import transfer_matrix
-
-        s = options.pop("s", None) or sympy.Symbol("s")
-        A, B, C, D, E = self._laplace_system(self.descriptor is not None, s)
-        G = transfer_matrix(A, B, C, D, E=E, input_names=self.input_names,
-                            output_names=self.output_names, s=s, **options)
-        return dataclasses.replace(G, known_parameters=self.known_parameters)
+        return linear.transfer_matrix(self, **options)
 
     def to_latex(self, *, matrices: bool = False) -> str:
         r"""The model as a paper prints it: ``\dot{p}_{m} &= ...`` lines, then the outputs.
@@ -344,21 +198,17 @@ class Model:
         vC &= \frac{q_{C}}{C}
         \end{aligned}
         """
-        body = _equations_latex(self)[len(r"$$\begin{aligned}"):-len(r"\end{aligned}$$")]
-        text = "\\begin{aligned}\n" + body.replace(" \\\\ ", " \\\\\n") + "\n\\end{aligned}"
-        if matrices:
-            form = self.descriptor_form() if self.descriptor is not None else self.state_space()
-            text += "\n" + form.to_latex()
-        return text
+        return model_latex(self, matrices=matrices)
 
     def _repr_latex_(self) -> str:
-        return _equations_latex(self)
+        return equations_latex(self)
 
+    # ----------------------------------------------------------------- operating points
     def equilibrium(self, values, inputs=None, *, guess=None, fixed=None, tol: float = 1e-10,
-                    exact: bool = True) -> "Equilibrium":
+                    exact: bool = True) -> Equilibrium:
         """Operating point ``f(x0, u0) = 0`` at numeric parameter values (trim).
 
-        See :func:`bondgraph.operating.equilibrium`: exact (sympy) for small
+        See :func:`bondgraph.linear.operating.equilibrium`: exact (sympy) for small
         polynomial systems, else :func:`scipy.optimize.root` from ``guess``;
         the point must be isolated (``fixed=`` holds states no equation
         determines).  Pass the result to :meth:`linearize` for the plant there.
@@ -376,15 +226,14 @@ class Model:
         >>> round(eq.states["q_grav"], 12)        # hanging up: theta = pi
         3.14159265359
         """
-        from .operating import equilibrium
-
-        return equilibrium(self, values, inputs, guess=guess, fixed=fixed, tol=tol, exact=exact)
+        return linear.equilibrium(self, values, inputs, guess=guess, fixed=fixed, tol=tol,
+                                  exact=exact)
 
     def linearize(self, x0=None, u0=None, *, values=None, equilibrium: bool = True,
                   tol: float = 1e-9):
         """Linearize about an operating point ``(x0, u0)`` by symbolic Jacobians.
 
-        With numeric parameter ``values`` (or an :class:`~bondgraph.operating.Equilibrium`
+        With numeric parameter ``values`` (or an :class:`~bondgraph.linear.operating.Equilibrium`
         as ``x0``, which carries its inputs and values) the result is a numeric
         plant: a :class:`~bondgraph.numeric.NumericStateSpace` with names, ready
         for ``.to_control()``.
@@ -429,39 +278,14 @@ class Model:
         [  0, -g*l*m],
         [1/J,      0]])
         """
-        from .operating import Equilibrium, linear_plant
-
         if isinstance(x0, Equilibrium) or values is not None:
             if values is None:
                 values = dict(x0.values)
             return linear_plant(self, x0, u0, values, tol=max(tol, 1e-9))
-        x, u = self.states, self.inputs
-        point = {**_point(self, x0, x, "state"), **_point(self, u0, u, "input")}
-        bad = set(self.input_derivatives) | {T_SYM}
-        for ex in self.rhs + self.output_exprs:
-            if ex.free_symbols & bad:
-                raise NonlinearModelError(
-                    f"model {self.name!r} depends on {', '.join(map(str, ex.free_symbols & bad))}; "
-                    "it cannot be linearized to a constant (A, B)")
-        if equilibrium:
-            if isinstance(tol, bool) or not isinstance(tol, (int, float)) or not tol >= 0:
-                raise NonlinearModelError(f"tol: expected a number >= 0, got {tol!r}")
-            for s_, r in zip(x, self.rhs):
-                val = _residual(r, point, tol)
-                if val is not None:
-                    raise NonlinearModelError(
-                        f"model {self.name!r}: the operating point is not an equilibrium: "
-                        f"d{s_.name}/dt = {val} there (tol={tol:g}); pass equilibrium=False "
-                        "to linearize about a non-equilibrium point")
+        return linear.linearize(self, x0, u0, equilibrium=equilibrium, tol=tol)
 
-        def jac(exprs, wrt):
-            return sympy.ImmutableMatrix(len(exprs), len(wrt), lambda i, j: sympy.simplify(
-                sympy.diff(exprs[i], wrt[j]).xreplace(point)))
-        return SymbolicStateSpace(jac(self.rhs, x), jac(self.rhs, u), jac(self.output_exprs, x),
-                                  jac(self.output_exprs, u), self.state_names, self.input_names,
-                                  self.output_names, known_parameters=self.known_parameters)
-
-    def port_hamiltonian(self) -> "PortHamiltonian":
+    # ----------------------------------------------------------------- energy
+    def port_hamiltonian(self) -> PortHamiltonian:
         """Port-Hamiltonian form ``x' = (J - R) grad H + (G - P) u``,
         ``y = (G + P)^T grad H + (S - N) u`` (see :mod:`bondgraph.hamiltonian`).
 
@@ -485,8 +309,6 @@ class Model:
         [b, 0],
         [0, 0]]))
         """
-        from .hamiltonian import port_hamiltonian
-
         return port_hamiltonian(self)
 
     def energy(self) -> sympy.Expr:
@@ -501,39 +323,46 @@ class Model:
         >>> bg.derive(g).energy()
         p_L**2/(2*L) + q_C**2/(2*C)
         """
-        from .hamiltonian import energy
-
         return energy(self)
 
-    def descriptor_form(self) -> SymbolicStateSpace:
-        """``E x' = A x + B u`` as derived, before eliminating dependent storage.
 
-        Without derivative causality ``E`` is the identity.  Computed once per model.
-        """
-        if "descriptor_form" not in self._cache:
-            self._cache["descriptor_form"] = self._descriptor_form()
-        return self._cache["descriptor_form"]
+def derive(graph: Union[BondGraph, AugmentedBondGraph], outputs: OutputSpec = None) -> Model:
+    """Derive explicit state equations (and outputs) from a bond graph.
 
-    def _descriptor_form(self) -> SymbolicStateSpace:
-        if self.descriptor is None:
-            ss = self.state_space()
-            return SymbolicStateSpace(ss.A, ss.B, ss.C, ss.D, ss.state_names,
-                                      ss.input_names, ss.output_names,
-                                      sympy.ImmutableMatrix(sympy.eye(len(self.states))),
-                                      known_parameters=self.known_parameters)
-        E, F = self.descriptor
-        x, u = self.states, self.inputs
-        A, B = _linear_form(F, x, u, self, "state equation", "F")
-        C, D = _linear_form(self.output_exprs, x, u, self, "output", "y")
-        if E.free_symbols & (set(x) | set(u)):
-            raise NonlinearModelError(f"model {self.name!r}: E depends on the states")
-        return SymbolicStateSpace(A, B, C, D, self.state_names, self.input_names,
-                                  self.output_names, E, known_parameters=self.known_parameters)
+    Parameters
+    ----------
+    graph : BondGraph or AugmentedBondGraph
+        Causality is assigned (by SCAP) when a plain graph is given.
+    outputs : mapping of str to expression, optional
+        Named outputs: expressions of signals such as ``bg.flow("J")``,
+        ``bg.displacement("J")`` or ``L*bg.displacement("hub") + ...``.
 
+    Returns
+    -------
+    Model
+        States, inputs, ``rhs`` (x' = f(x, u)), outputs and, when derivative
+        causality is present, the descriptor form (see
+        :func:`bondgraph.equations.derive_equations`).
 
-def _equations_latex(model: Model) -> str:
-    r"""``\dot x = f`` and ``y = g`` lines as a LaTeX aligned block."""
-    rows = [r"%s &= %s" % (latex_dot(s.name), tex(r)) for s, r in zip(model.states, model.rhs)]
-    rows += [r"%s &= %s" % (latex_name(n), tex(g))
-             for n, g in zip(model.output_names, model.output_exprs)]
-    return r"$$\begin{aligned}" + r" \\ ".join(rows) + r"\end{aligned}$$"
+    Raises
+    ------
+    OutputError
+        An output names no element or bond, or is not an expression.
+    AlgebraicLoopError
+        A loop that is not linear in its unknowns.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("dc_motor")
+    >>> V, ia, w = bg.Se("V"), bg.One("ia"), bg.One("w")
+    >>> g.add(V, ia, w, bg.R("Ra"), bg.I("La"), bg.GY("K"), bg.I("J"), bg.R("b"))
+    >>> for tail, head in [(V, ia), (ia, "Ra"), (ia, "La"), (ia, "K"), ("K", w), (w, "J"), (w, "b")]:
+    ...     _ = g.connect(tail, head)
+    >>> model = bg.derive(g, outputs={"omega": bg.flow("J"), "theta": bg.displacement("J")})
+    >>> model.state_names
+    ('p_La', 'p_J', 'theta')
+    >>> model.rhs
+    (V - Ra*p_La/La - K*p_J/J, K*p_La/La - b*p_J/J, p_J/J)
+    """
+    return cast(Model, derive_equations(graph, outputs, record=Model))

@@ -46,7 +46,7 @@ from typing import Any, Callable, Mapping, Union
 
 import sympy
 
-from .equations import derive as _derive
+from .model import derive as _derive
 from .errors import BondGraphError
 from .graph import BondGraph
 from .model import Model
@@ -249,7 +249,7 @@ def load_model(path: PathLike) -> ModelDefinition:
     >>> load_model("no/such/model.py")
     Traceback (most recent call last):
     ...
-    bondgraph.modelfile.ModelFileError: model file 'no/such/model.py' does not exist
+    bondgraph.ModelFileError: model file 'no/such/model.py' does not exist
     """
     p = _model_path(path)
     module = _import(p)

@@ -62,7 +62,7 @@ class Signal(sympy.Symbol):
         Element name (hierarchical, ``"motor.J"``) or bond number.
     port : int, optional
         The port (1-based, in the order of its bonds) of a multiport field
-        (:mod:`bondgraph.fields`); None for every other element.
+        (:mod:`bondgraph.elements.fields`); None for every other element.
 
     Examples
     --------

@@ -1,6 +1,6 @@
 """The bad-input catalogue: each wrong input, the error it gets, the culprit its message names.
 
-``tests/test_bad_input_catalogue.py`` runs every case (error class, message
+``tests/errors/test_catalogue.py`` runs every case (error class, message
 naming the culprit, nothing written in the output directory) and checks
 that ``docs/errors.md`` is this catalogue rendered.  After changing a case
 or a message, regenerate the page::
@@ -813,7 +813,7 @@ def render(results: list[tuple[Case, str]]) -> str:
              "Every wrong input below is refused with an error derived from",
              "`bondgraph.BondGraphError` whose message names the culprit, and no output file is",
              "written.  Generated from `tests/bad_inputs.py` (regenerate with",
-             "`python tests/bad_inputs.py docs/errors.md`); `tests/test_bad_input_catalogue.py`",
+             "`python tests/bad_inputs.py docs/errors.md`); `tests/errors/test_catalogue.py`",
              "runs every case and fails if this page is out of date.", "",
              f"{len(results)} cases.", ""]
     area = None

@@ -48,7 +48,7 @@ import sympy
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 
-from ..values import as_expr
+from .._support.sympify import as_expr
 from ._validation import BeamParameterError, check_choice, check_float, check_int
 
 __all__ = [

@@ -12,12 +12,21 @@ for a beam without a tip body, and exact at fixed mass ratios otherwise.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from typing import Protocol
 
 import sympy
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .modal import ModalBeam
+class _Beam(Protocol):
+    """What :func:`symbolic_modes` reads of a :class:`~bondgraph.beam.ModalBeam`."""
+
+    @property
+    def modes(self) -> tuple: ...
+    @property
+    def normalization(self) -> str: ...
+    @property
+    def rhoA(self) -> float: ...
+    @property
+    def L(self) -> float: ...
 
 __all__ = ["SymbolicMode", "beam_symbols", "symbolic_modes"]
 
@@ -70,7 +79,7 @@ class SymbolicMode:
     phi: sympy.Expr
 
 
-def symbolic_modes(beam: ModalBeam) -> tuple[SymbolicMode, ...]:
+def symbolic_modes(beam: _Beam) -> tuple[SymbolicMode, ...]:
     """Sympy expressions (in ``EI, rhoA, L, x``) for every mode of ``beam``.
 
     With ``normalization="mass"`` the shape carries the factor

@@ -40,8 +40,7 @@ from typing import Optional, Sequence
 from ..errors import BondGraphError
 from ..export import EXPORT_FORMATS
 from . import _operating
-# _flatten: bondgraph.study.config reads study files with the params files' dotted names
-from ._common import CLIError, ParamsFileError, UsageError, _flatten, load_params  # noqa: F401
+from ._common import CLIError, ParamsFileError, UsageError, load_params
 from ._operating import OperatingPointError
 from ._parser import build_parser
 

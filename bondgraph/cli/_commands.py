@@ -12,7 +12,7 @@ import importlib
 import sys
 from pathlib import Path
 
-from .._labels import latex_dot, latex_name, tex
+from .._support.labels import latex_dot, latex_name, tex
 from ..errors import NonlinearModelError
 from ..export import EXPORT_FORMATS
 from . import _common
@@ -57,7 +57,7 @@ def cmd_equations(args) -> None:
     out.append(f"parameters ({len(params)}): {', '.join(params) or '-'}")
     out.append("")
     if args.latex:
-        # the one LaTeX naming helper of the package (bondgraph._labels): \dot{p}_{La}
+        # the one LaTeX naming helper of the package (bondgraph._support.labels): \dot{p}_{La}
         lines = [f"{latex_dot(s.name)} &= {tex(r)}" for s, r in zip(model.states, model.rhs)]
         lines += [f"{latex_name(n)} &= {tex(g)}" for n, g in zip(model.output_names, model.output_exprs)]
         out += ["\\begin{aligned}", " \\\\\n".join(lines), "\\end{aligned}"]
@@ -200,7 +200,7 @@ def cmd_draw(args) -> None:
         raise UsageError(f"--tikz-only applies to TikZ output (.tex or --format tex); "
                        f"'{args.output}' is {kind}")
     _refuse_overwriting_inputs([out], args)
-    from ..files import atomic_write
+    from .._support.files import atomic_write
     from ..modelfile import load_model
 
     defn = load_model(args.model)

@@ -8,13 +8,13 @@ Examples
 
 from __future__ import annotations
 
-import importlib
 import os
 from pathlib import Path
 from typing import ClassVar, Literal, Mapping, Optional, Sequence, overload
 
 from ..errors import BondGraphError, ParameterValueError
 from ..parameters import match_values
+from .._support.files import ParamsFileError, load_params  # noqa: F401  (the cli's API)
 
 __all__ = ["CLIError", "UsageError", "ParamsFileError", "load_params"]
 
@@ -32,74 +32,6 @@ class UsageError(CLIError):
     exit_status: ClassVar[int] = 2
 
 
-class ParamsFileError(CLIError):
-    """A ``--params`` file is missing, unreadable, or not a mapping of names to numbers."""
-
-
-# --------------------------------------------------------------------------- params files
-def load_params(path: "str | os.PathLike[str]") -> dict[str, float]:
-    """Read a JSON or TOML parameter file into ``{name: value}``.
-
-    Nested mappings give dotted names (``{"motor": {"Ra": 1}}`` is
-    ``motor.Ra``).  Every value must be a finite real number (not a bool, not
-    a string).
-
-    Parameters
-    ----------
-    path : str or path-like
-        A ``.json`` or ``.toml`` file.
-
-    Returns
-    -------
-    dict of str to float
-
-    Raises
-    ------
-    ParamsFileError
-        Naming the file and, for a bad value, the parameter.
-
-    Examples
-    --------
-    >>> import tempfile, pathlib
-    >>> with tempfile.TemporaryDirectory() as d:
-    ...     p = pathlib.Path(d, "p.toml")
-    ...     _ = p.write_text('J = 0.01\\n[motor]\\nRa = 1.5\\n')
-    ...     load_params(p)
-    {'J': 0.01, 'motor.Ra': 1.5}
-    """
-    from ..files import read_table
-
-    name, data = read_table(path, "params file", ParamsFileError)
-    what = f"params file '{name}'"
-    if not isinstance(data, dict):
-        raise ParamsFileError(
-            f"{what} must hold a mapping of parameter names to numbers; "
-            f"got a {type(data).__name__}")
-    return _flatten(data, name)
-
-
-def _flatten(data: Mapping, path: str) -> dict[str, float]:
-    """Nested mappings to dotted names, depth first in file order (no recursion: any depth)."""
-    from ..files import number_problem
-
-    out: dict[str, float] = {}
-    stack = [("", iter(data.items()))]
-    while stack:
-        prefix, items = stack[-1]
-        for key, value in items:
-            name = f"{prefix}{key}"
-            if isinstance(value, dict):
-                stack.append((name + ".", iter(value.items())))
-                break
-            problem = number_problem(value)
-            if problem is not None:
-                raise ParamsFileError(f"params file '{path}': parameter {name!r} {problem}")
-            if name in out:
-                raise ParamsFileError(f"params file '{path}': parameter {name!r} is given twice")
-            out[name] = float(value)
-        else:
-            stack.pop()
-    return out
 
 
 # --------------------------------------------------------------------------- helpers
@@ -164,17 +96,9 @@ def _only(names: Sequence[str], what: str) -> str:
 
 
 def _transfer_module():
-    for modname in ("bondgraph.transfer", "bondgraph.tf"):
-        try:
-            module = importlib.import_module(modname)
-        except ModuleNotFoundError as exc:
-            if exc.name not in (modname, "bondgraph.tf"):
-                raise
-            continue
-        if hasattr(module, "transfer_function"):
-            return module
-    raise CLIError("symbolic transfer functions need bondgraph.transfer (not available in this "
-                   "installation)")
+    from .. import tf
+
+    return tf
 
 
 def _refuse_overwriting_inputs(outputs: Sequence[Path], args) -> None:

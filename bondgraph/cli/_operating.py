@@ -1,7 +1,7 @@
 """Operating points on the command line: ``--operating-point FILE`` and ``--trim``.
 
 A nonlinear model has a linear plant only about an operating point (see
-:mod:`bondgraph.operating`).  ``bondgraph tf`` and ``bondgraph export`` take
+:mod:`bondgraph.linear.operating`).  ``bondgraph tf`` and ``bondgraph export`` take
 one of:
 
 ``--operating-point FILE``
@@ -164,7 +164,7 @@ def read_operating_point(path: str) -> tuple[dict, dict]:
     ...     read_operating_point(str(p))
     ({'q': 0.5}, {'F': 1.0})
     """
-    from ..files import number_problem, read_table
+    from .._support.files import number_problem, read_table
 
     name, data = read_table(path, "operating-point file", OperatingPointError)
     where = f"operating-point file '{name}'"

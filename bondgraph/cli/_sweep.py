@@ -23,9 +23,9 @@ def cmd_sweep(args) -> None:
     """``bondgraph sweep``: a parameter study (bondgraph.study) written as CSV or parquet."""
     import warnings
 
-    from ..files import atomic_write
+    from .._support.files import atomic_write
     from ..study import StudyWarning, sweep
-    from ..study._deps import require
+    from ..study.deps import require
     from ..study.config import load_study
 
     out = Path(args.output)
@@ -90,7 +90,7 @@ def _sweep_executor(args):
         pool = ProcessPoolExecutor(args.workers)
         return pool, lambda: pool.shutdown(cancel_futures=True)
     if args.scheduler is not None:
-        from ..study._deps import require
+        from ..study.deps import require
 
         distributed = require("distributed", "--scheduler (Dask)")
         try:

@@ -310,7 +310,7 @@ def prepare(model: Model, *, reserved: Iterable[str], matlab: bool = False,
     outs = tuple(_rename(ex, swap, model) for ex in model.output_exprs)
     default_values = None
     if defaults is not None:
-        from ..numeric.parameters import resolve_parameters
+        from ..numeric.resolve import resolve_parameters
 
         default_values = tuple(resolve_parameters(params, defaults, model=model.name,
                                                   known=model.known_parameters).tolist())

@@ -73,3 +73,5 @@ __all__ = [
     "build_scene", "Scene", "Label", "BondShape",
     "scene_to_svg", "scene_to_tikz", "scene_figure", "write_png",
 ]
+
+DrawingError.__module__ = __name__   # tracebacks name it where users import it

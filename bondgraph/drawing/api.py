@@ -169,6 +169,6 @@ def _format(path, fmt: Optional[str]) -> str:
 
 def _atomic_write(path, write) -> None:
     """All or nothing, errors naming ``path`` (never the temporary file)."""
-    from ..files import atomic_write
+    from .._support.files import atomic_write
 
     atomic_write(path, write)

@@ -36,7 +36,7 @@ from typing import Mapping, Sequence
 
 import networkx as nx
 
-from ..protocol import drawing_role
+from ..elements.protocol import drawing_role
 from .source import LEAF_ROLES, SOURCE_ROLES, UP_ROLES
 
 __all__ = ["grid_layout", "boxes_overlap", "overlapping_pairs"]
@@ -54,7 +54,7 @@ def grid_layout(names: Sequence[str], kinds: Mapping[str, str],
         Node names, in the graph's order (used to break ties).
     kinds : mapping of str to str
         Node kind: an element kind (``'Se'``, ``'1'``, ``'TF'``, ...; its element
-        class's :attr:`~bondgraph.protocol.Element.drawing_role` is used) or a
+        class's :attr:`~bondgraph.elements.protocol.Element.drawing_role` is used) or a
         drawing role (``'source'``, ``'storage'``, ``'dissipative'``,
         ``'junction'``, ``'backbone'``, ``'sub'``).
     edges : sequence of (tail, head)

@@ -38,7 +38,7 @@ from functools import lru_cache
 from typing import Optional
 
 from .layout import Box, grid_layout, overlapping_pairs
-from ..protocol import drawing_role
+from ..elements.protocol import drawing_role
 from .source import Diagram
 
 __all__ = ["Label", "BondShape", "Scene", "build_scene", "text_width", "label_font",

@@ -30,13 +30,13 @@ from ..errors import BondGraphError
 from ..flatten import FlatGraph, flatten
 from ..graph import BondGraph
 from ..model import Model
-from ..protocol import Element
+from ..elements.protocol import Element
 
 __all__ = ["DrawingError", "Node", "Edge", "Diagram", "diagram", "Drawable"]
 
 Drawable = Union[BondGraph, AugmentedBondGraph, FlatGraph, Model]
 
-#: drawing roles (:attr:`bondgraph.protocol.Element.drawing_role`) that the layout may
+#: drawing roles (:attr:`bondgraph.elements.protocol.Element.drawing_role`) that the layout may
 #: draw as leaves of the junction structure; those drawn above it (and right of a
 #: branch); those drawn in line with the main path
 LEAF_ROLES = ("source", "storage", "dissipative")
@@ -61,7 +61,7 @@ class Node:
         sub-model drawn as one box (written to the SVG, not interpreted).
     text : str
         The main text: ``'I:La'``, ``'1'``, ``'motor'`` (the element's
-        :meth:`~bondgraph.protocol.Element.drawing_label`).
+        :meth:`~bondgraph.elements.protocol.Element.drawing_label`).
     note : str
         Small text next to the main one: a junction's name ('' otherwise).
     derivative : bool
@@ -71,7 +71,7 @@ class Node:
         An R element whose causality was chosen arbitrarily (algebraic loop).
     role : str
         Where the layout puts it: the element's
-        :attr:`~bondgraph.protocol.Element.drawing_role`, or ``'sub'``.
+        :attr:`~bondgraph.elements.protocol.Element.drawing_role`, or ``'sub'``.
 
     Examples
     --------

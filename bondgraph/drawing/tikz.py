@@ -18,7 +18,7 @@ Every text that reaches LaTeX goes through :func:`tex_escape`: the ten
 special characters of LaTeX are escaped (and ``<``, ``>``, ``|``, ``"``,
 which the default font encoding prints as other glyphs), characters LaTeX cannot be
 relied on to typeset (control characters, anything outside printable ASCII)
-are refused with a :class:`~bondgraph.drawing.source.DrawingError` naming
+are refused with a :class:`~bondgraph.drawing.DrawingError` naming
 the text.  Each bond's shapes carry a comment ``% bond N: tail -> head``,
 and its causal stroke the comment ``% stroke N at END`` (checked by tests).
 
@@ -89,7 +89,7 @@ def tex_escape(text: str, what: str = "text") -> str:
     >>> tex_escape("Ω", "name of element 'x'")
     Traceback (most recent call last):
     ...
-    bondgraph.drawing.source.DrawingError: TikZ output: the name of element 'x' 'Ω' has the character 'Ω' (U+03A9), which LaTeX cannot be relied on to typeset; only printable ASCII is written to LaTeX (rename it, or draw SVG/PNG)
+    bondgraph.drawing.DrawingError: TikZ output: the name of element 'x' 'Ω' has the character 'Ω' (U+03A9), which LaTeX cannot be relied on to typeset; only printable ASCII is written to LaTeX (rename it, or draw SVG/PNG)
     """
     out = []
     for ch in text:

@@ -63,7 +63,7 @@ import os
 from pathlib import Path
 from typing import Mapping, Optional, Union
 
-from ..files import atomic_write, checked_path
+from .._support.files import atomic_write, checked_path
 from ..model import Model
 from ..modelfile import ModelDefinition
 from ..parameters import ParameterValues
@@ -94,7 +94,7 @@ def _options(fmi: object, kind: object, step: object) -> tuple[int, bool, bool]:
 
 
 def _model_and_values(target: object, values: Optional[ParameterValues]) -> tuple[Model, list[float]]:
-    from ..numeric.parameters import resolve_parameters
+    from ..numeric.resolve import resolve_parameters
 
     if isinstance(target, ModelDefinition):
         model = target.derive()
@@ -214,7 +214,7 @@ def export_fmu(target: Target, path: Union[str, "os.PathLike[str]"], *, fmi: int
 
     The arguments are those of :func:`build_fmu`; ``path`` must end in
     ``.fmu``.  The archive is built in memory and written to a temporary
-    file renamed over ``path`` (:func:`bondgraph.files.atomic_write`), so a
+    file renamed over ``path`` (:func:`bondgraph._support.files.atomic_write`), so a
     failure anywhere leaves no file, and an existing file as it was.
 
     Returns

@@ -36,3 +36,5 @@ __all__ = [
     "RationalFit", "fit_rational", "fit_rational_detailed",
     "TimeData", "FrequencyData", "GreyboxResult", "greybox_fit", "simulate_sampled",
 ]
+
+IdentificationError.__module__ = __name__   # tracebacks name it where users import it

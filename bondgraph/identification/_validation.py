@@ -119,7 +119,7 @@ def finite_array(x: ArrayLike, name: str, *, dtype: DTypeLike = float,
     >>> finite_array([1.0, float("inf")], "y")
     Traceback (most recent call last):
     ...
-    bondgraph.identification._validation.IdentificationError: y: expected finite values, found 1 NaN/inf entries
+    bondgraph.identification.IdentificationError: y: expected finite values, found 1 NaN/inf entries
     """
     try:
         arr = np.asarray(x, dtype=dtype)

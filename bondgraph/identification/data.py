@@ -52,7 +52,7 @@ class TimeData:
     >>> TimeData([0.0, float("nan")], [0.0, 0.0], 0.01)
     Traceback (most recent call last):
     ...
-    bondgraph.identification._validation.IdentificationError: u: expected finite values, found 1 NaN/inf entries
+    bondgraph.identification.IdentificationError: u: expected finite values, found 1 NaN/inf entries
     """
 
     u: NDArray[np.float64]

@@ -93,7 +93,7 @@ def _expm(M: NDArray) -> NDArray:
     several fits at once) a call then waits for a scheduler time slice:
     ``--busy 2`` on 2 cores measures a median of 8 ms a call for the SRV-02
     hold matrix against 0.07 ms for this function, and time-domain fits 2 to 4
-    times slower (the 80-fit Monte Carlo test of ``tests/test_greybox.py``
+    times slower (the 80-fit Monte Carlo test of ``tests/identification/test_greybox.py``
     took 14-33 s instead of 3 s on the shared machine).  numpy's ``solve``
     (LAPACK ``gesv``) stays single threaded at these sizes.  The accuracy is
     ample: within ``1e-13`` relative of a 50-digit mpmath reference on the

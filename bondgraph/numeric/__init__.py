@@ -9,6 +9,8 @@
   nearest a target; see :mod:`bondgraph.numeric.sparse`.
 * :func:`compile_dynamics` / :func:`simulate` / :func:`to_nonlinear_iosys` --
   nonlinear and time-varying models in time.
+* :func:`linear_plant` -- a model linearized at an operating point, at values.
+* :mod:`bondgraph.numeric.control` -- small control-design helpers for plants.
 
 Parameter values are a mapping keyed by sympy Symbol or name (``"motor.Ra"``);
 all parameters must be given, and nothing else.
@@ -40,17 +42,20 @@ array([[ -2. , -10. ],
 
 from .errors import (DenseConversionError, DenseConversionWarning, ImproperPlantError,
                      NotPicklableError, NumericError, ParameterValueError, SimulationError)
-from .parameters import parameter_name, resolve_batch, resolve_parameters
+from .resolve import parameter_name, resolve_batch, resolve_parameters
 from .plant import (BatchStateSpace, NumericModel, NumericStateSpace, SparseBatchStateSpace,
                     compile_plant, control_labels, numeric_plant)
 from .sparse import SPARSE_THRESHOLD, Pattern
 from .simulate import (NumericDynamics, SimulationResult, compile_dynamics, simulate,
                        to_nonlinear_iosys)
+from .operating import linear_plant
+from ._linalg import ChannelResponse, channel_response, sorted_eigenvalues
 
 __all__ = [
     "NumericStateSpace", "BatchStateSpace", "SparseBatchStateSpace", "Pattern",
     "SPARSE_THRESHOLD", "NumericModel", "compile_plant", "numeric_plant",
-    "NumericDynamics", "compile_dynamics", "SimulationResult", "simulate", "to_nonlinear_iosys",
+    "linear_plant", "NumericDynamics", "compile_dynamics", "SimulationResult", "simulate", "to_nonlinear_iosys",
+    "ChannelResponse", "channel_response", "sorted_eigenvalues",
     "resolve_parameters", "resolve_batch", "parameter_name", "control_labels",
     "NumericError", "ParameterValueError", "SimulationError", "ImproperPlantError",
     "NotPicklableError", "DenseConversionError", "DenseConversionWarning",

@@ -29,7 +29,7 @@ The coefficient matrices of ``s, s^2, ...`` in the feedthrough are
 :attr:`NumericStateSpace.D_derivatives`; :meth:`~NumericStateSpace.frequency_response`
 includes them.  When one is nonzero the plant is improper (``is_proper``
 False) and ``to_control``/``to_tf``/``to_scipy`` raise
-:class:`~bondgraph.numeric.errors.ImproperPlantError` (python-control and scipy
+:class:`~bondgraph.ImproperPlantError` (python-control and scipy
 state-space systems cannot hold ``D1 s``); use
 ``model.transfer_function(...).to_control(values)`` for a python-control
 transfer function of an improper entry.
@@ -58,15 +58,16 @@ from typing import Optional, Sequence, Union
 import numpy as np
 import sympy
 
-from .._labels import control_labels
-from ..model import Model
-from ..values import parameter_symbols
+from .._support.labels import control_labels
+from ..equations import StateEquations
+from ..linear import derivative_form
+from .._support.sympify import parameter_symbols
 from ._compile import CompiledFunction, placeholders, user_functions
-from .._fields_algebra import check_definite
+from ..elements.fields.algebra import check_definite
 from ._linalg import freeze
 from .batch import BatchStateSpace, SparseBatchStateSpace
 from .errors import NotPicklableError, NumericError, ParameterValueError
-from .parameters import ParameterValues, resolve_batch, resolve_parameters
+from .resolve import ParameterValues, resolve_batch, resolve_parameters
 from .sparse import SPARSE_THRESHOLD, Pattern
 from .statespace import NumericStateSpace
 
@@ -77,15 +78,15 @@ __all__ = ["NumericStateSpace", "BatchStateSpace", "SparseBatchStateSpace", "Num
 class _CompiledModel:
     """A derived :class:`Model` and its signal and parameter names (base of the compiled forms)."""
 
-    def __init__(self, model: Model) -> None:
-        if not isinstance(model, Model):
+    def __init__(self, model: StateEquations) -> None:
+        if not isinstance(model, StateEquations):
             raise NumericError("expected a bondgraph Model (from bondgraph.derive); "
                                f"got {type(model).__name__}")
         self._model = model
         self._params: tuple[sympy.Symbol, ...] = model.parameters
 
     @property
-    def model(self) -> Model:
+    def model(self) -> StateEquations:
         return self._model
 
     def __getstate__(self) -> dict:
@@ -125,7 +126,7 @@ class NumericModel(_CompiledModel):
 
     Parameters
     ----------
-    model : Model
+    model : StateEquations
         A linear derived model.
     sparse : bool, optional
         Whether :meth:`plant` and :meth:`batch` give sparse plants; by default
@@ -152,7 +153,7 @@ class NumericModel(_CompiledModel):
     (3, array([[-1000.]]))
     """
 
-    def __init__(self, model: Model, *, sparse: Optional[bool] = None) -> None:
+    def __init__(self, model: StateEquations, *, sparse: Optional[bool] = None) -> None:
         super().__init__(model)
         if sparse not in (None, True, False):
             raise NumericError(f"sparse must be True, False or None (by size); got {sparse!r}")
@@ -251,7 +252,7 @@ class NumericModel(_CompiledModel):
 
     def _check_definite(self, columns: list, size: Optional[int]) -> None:
         """Each field's matrix positive (semi-)definite at the values (a
-        :class:`~bondgraph.fields.FieldError` naming the field and the first
+        :class:`~bondgraph.FieldError` naming the field and the first
         failing parameter set)."""
         for el, fn, n in self._definite:
             stack = np.empty(((size or 1), n * n))
@@ -340,14 +341,14 @@ class NumericModel(_CompiledModel):
         return BatchStateSpace(A, B, C, D, *names, arr, self._model.name, Dd, S)
 
 
-def _reduced_form(model: Model) -> tuple[list, list[str]]:
+def _reduced_form(model: StateEquations) -> tuple[list, list[str]]:
     """Sparse symbolic ``A, B, C, D, D_derivatives..., state_shift...`` and their labels.
 
     ``x' = A x + sum_k B_k u^(k)``, ``y = C x + sum_k D_k u^(k)`` (``K`` the
     highest order): ``S_{K-1} = B_K``, ``S_j = B_{j+1} + A S_{j+1}``;
     ``B = B0 + A S_0``, ``D_j' = D_j + C S_j`` (see the module docstring).
     """
-    A, Bs, C, Ds = model._derivative_form()
+    A, Bs, C, Ds = derivative_form(model)
     K = len(Bs) - 1
     if K == 0:
         return [A, Bs[0], C, Ds[0]], ["A", "B", "C", "D"]
@@ -363,7 +364,7 @@ def _reduced_form(model: Model) -> tuple[list, list[str]]:
     return [sympy.ImmutableSparseMatrix(M) for M in mats], labels
 
 
-def _definite_checks(model: Model, swap: dict, dummies: Sequence[sympy.Symbol]) -> tuple:
+def _definite_checks(model: StateEquations, swap: dict, dummies: Sequence[sympy.Symbol]) -> tuple:
     """``(element, compiled entries, n)`` of every element with a symbolic matrix that must
     be positive (semi-)definite (the multiport fields: ``matrix`` and ``definite``)."""
     found = []
@@ -375,7 +376,7 @@ def _definite_checks(model: Model, swap: dict, dummies: Sequence[sympy.Symbol]) 
     return tuple(found)
 
 
-def _elements_using(model: Model, names: Sequence[str]) -> str:
+def _elements_using(model: StateEquations, names: Sequence[str]) -> str:
     """``"I:La (La = 0)"`` for the elements whose parameters use one of ``names``."""
     found = []
     for el in (model.augmented.flat.elements if model.augmented is not None else ()):
@@ -392,12 +393,12 @@ def _real_constant(ex: sympy.Expr, label: str, i: int, j: int, name: str) -> flo
     return value.real
 
 
-def compile_plant(model: Model, *, sparse: Optional[bool] = None) -> NumericModel:
+def compile_plant(model: StateEquations, *, sparse: Optional[bool] = None) -> NumericModel:
     """Compile a linear model's ``A, B, C, D`` once; see :class:`NumericModel`.
 
     Parameters
     ----------
-    model : Model
+    model : StateEquations
         A linear model (from :func:`bondgraph.derive`).
     sparse : bool, optional
         Whether its plants are sparse by default (None: when the model has
@@ -418,12 +419,12 @@ def compile_plant(model: Model, *, sparse: Optional[bool] = None) -> NumericMode
     return NumericModel(model, sparse=sparse)
 
 
-def numeric_plant(model: Model, values: ParameterValues) -> NumericStateSpace:
+def numeric_plant(model: StateEquations, values: ParameterValues) -> NumericStateSpace:
     """One-off numeric plant: ``compile_plant(model).plant(values)``.
 
     Parameters
     ----------
-    model : Model
+    model : StateEquations
         A linear model (from :func:`bondgraph.derive`).
     values : mapping of Symbol or str to float
         A value for every parameter of the model.

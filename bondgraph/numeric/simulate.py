@@ -31,12 +31,12 @@ import sympy
 from sympy.core.function import AppliedUndef
 
 from ..errors import BondGraphError
-from ..model import Model
+from ..equations import StateEquations
 from ..signals import t as T_SYM
 from ._compile import CallbackFailure, CompiledFunction, guard_user_functions, placeholders, real_array
 from ._linalg import freeze
 from .errors import NumericError, SimulationError
-from .parameters import ParameterValues, resolve_parameters
+from .resolve import ParameterValues, resolve_parameters
 from .plant import _CompiledModel, control_labels
 
 if TYPE_CHECKING:  # imported lazily at run time
@@ -59,7 +59,7 @@ def _short(value: Any) -> str:
     return text if len(text) <= 60 else text[:57] + "..."
 
 
-def _law_owners(model: Model, func: Any) -> str:
+def _law_owners(model: StateEquations, func: Any) -> str:
     """``"R:Rf: the function sat"``: the elements whose law (or modulus) uses the user function."""
     owners = []
     flat = getattr(model.augmented, "flat", None)        # None in a hand-built Model
@@ -88,7 +88,7 @@ class NumericDynamics(_CompiledModel):
 
     Parameters
     ----------
-    model : Model
+    model : StateEquations
 
     Raises
     ------
@@ -109,7 +109,7 @@ class NumericDynamics(_CompiledModel):
     array([-7.5 ,  0.25])
     """
 
-    def __init__(self, model: Model) -> None:
+    def __init__(self, model: StateEquations) -> None:
         super().__init__(model)
         if model.input_derivatives:
             raise NumericError(
@@ -184,12 +184,12 @@ class NumericDynamics(_CompiledModel):
                         dtype=float).reshape((len(self.output_names),) + size)
 
 
-def compile_dynamics(model: Model) -> NumericDynamics:
+def compile_dynamics(model: StateEquations) -> NumericDynamics:
     """Compile a model's equations once for simulation; see :class:`NumericDynamics`.
 
     Parameters
     ----------
-    model : Model
+    model : StateEquations
         The symbolic model (nonlinear and time-varying models allowed).
 
     Returns
@@ -504,7 +504,7 @@ def _check_history(dyn: NumericDynamics, t: np.ndarray, data: np.ndarray, names:
             f"t = {t[col]:g} (first of {int(bad[row].sum())} such samples)")
 
 
-def simulate(model: Union[Model, NumericDynamics], values: ParameterValues,
+def simulate(model: Union[StateEquations, NumericDynamics], values: ParameterValues,
              t_span: tuple[float, float],
              x0: Union[None, Sequence[float], np.ndarray, Mapping[str, float]] = None,
              *, u: InputSpec = None, t_eval: Optional[Sequence[float]] = None,
@@ -520,7 +520,7 @@ def simulate(model: Union[Model, NumericDynamics], values: ParameterValues,
 
     Parameters
     ----------
-    model : Model or NumericDynamics
+    model : StateEquations or NumericDynamics
         Pass a :class:`NumericDynamics` to reuse its compiled functions.
     values : mapping of Symbol or str to float
         Parameter values: exactly the model's parameters.
@@ -624,7 +624,7 @@ def simulate(model: Union[Model, NumericDynamics], values: ParameterValues,
                             MappingProxyType(dict(zip(dyn.parameter_names, p.tolist()))), dyn.name)
 
 
-def to_nonlinear_iosys(model: Union[Model, NumericDynamics], values: ParameterValues, *,
+def to_nonlinear_iosys(model: Union[StateEquations, NumericDynamics], values: ParameterValues, *,
                        name: Optional[str] = None) -> control.NonlinearIOSystem:
     """A python-control ``NonlinearIOSystem`` with the model's equations and labels.
 
@@ -637,7 +637,7 @@ def to_nonlinear_iosys(model: Union[Model, NumericDynamics], values: ParameterVa
 
     Parameters
     ----------
-    model : Model or NumericDynamics
+    model : StateEquations or NumericDynamics
         Pass a :class:`NumericDynamics` to reuse its compiled functions.
     values : mapping of Symbol or str to float
         Parameter values: exactly the model's parameters.

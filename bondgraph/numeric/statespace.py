@@ -18,9 +18,9 @@ from typing import TYPE_CHECKING, Any, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
-from .._labels import control_labels
+from .._support.labels import control_labels
 from ..parameters import real_value
-from ..statespace import SignalCounts, check_matrix_shape, expected_shape
+from ..linear.statespace import SignalCounts, check_matrix_shape, expected_shape
 from ._linalg import freeze, frequency_response, sorted_eigenvalues
 from .errors import ImproperPlantError, NumericError
 from .sparse import Pattern, ShiftedSolver, dense_allowed, nearest_eigenvalues, sparse_frequency_response

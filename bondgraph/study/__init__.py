@@ -32,7 +32,7 @@ Examples
 [0.997628, 0.498814, 0.249407]
 """
 
-from ._deps import MissingDependencyError, StudyError, StudyWarning
+from .deps import MissingDependencyError, StudyError, StudyWarning
 from .design import DESIGNS, ParameterSpec, design_points, parameter_specs
 from .metrics import BUILTIN, Metric
 from .sweep import sensitivity, sweep

@@ -21,7 +21,7 @@ from ..errors import MissingValueError
 from ..model import Model
 from ..numeric import NumericModel, compile_plant
 from ..parameters import match_values, real_value
-from ._deps import StudyError, require
+from .deps import StudyError, require
 from .design import ParameterSpec
 from .metrics import Metric
 

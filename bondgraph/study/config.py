@@ -46,7 +46,7 @@ from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 from ..errors import BondGraphError
-from ..files import number_problem, read_table
+from .._support.files import ParamsFileError, flatten_numbers, number_problem, read_table
 
 __all__ = ["StudyFile", "StudyFileError", "load_study", "OPTIONS"]
 
@@ -181,7 +181,7 @@ def load_study(path: "str | os.PathLike[str]") -> StudyFile:
     StudyFileError
         Naming the file and the entry at fault.
     """
-    from ..cli import _flatten, ParamsFileError
+
 
     name, what, data = _read(path)
     unknown = sorted(set(data) - {"sweep", "values", "study"})
@@ -198,7 +198,7 @@ def load_study(path: "str | os.PathLike[str]") -> StudyFile:
         if not isinstance(data["values"], dict):
             raise StudyFileError(f"{what}: [values] must be a table of parameter values")
         try:
-            values = _flatten(data["values"], name)
+            values = flatten_numbers(data["values"], name)
         except ParamsFileError as exc:
             raise StudyFileError(str(exc).replace("params file", "study file", 1)) from None
     options = _options(data.get("study", {}), what)

@@ -45,7 +45,7 @@ from typing import Any, Mapping, Optional, Sequence, Union
 import numpy as np
 
 from ..parameters import parameter_name
-from ._deps import StudyError
+from .deps import StudyError
 
 __all__ = ["ParameterSpec", "parameter_specs", "design_points", "DESIGNS", "DEFAULT_N",
            "GRID_POINTS", "Design"]

@@ -60,9 +60,9 @@ from typing import Any, Callable, Mapping, Optional, Sequence
 
 import numpy as np
 
-from ..numeric._linalg import ChannelResponse, channel_response, sorted_eigenvalues
+from ..numeric import ChannelResponse, channel_response, sorted_eigenvalues
 from ..numeric.batch import dense_stacks
-from ._deps import StudyError
+from .deps import StudyError
 
 __all__ = ["Metric", "MaxReal", "MinDamping", "DCGain", "PeakGain", "Bandwidth", "StepInfo",
            "FunctionMetric", "BUILTIN", "resolve_metrics", "max_real", "min_damping", "dc_gain",

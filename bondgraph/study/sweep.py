@@ -36,7 +36,7 @@ from typing import Any, Mapping, Optional
 
 import numpy as np
 
-from ._deps import StudyError, StudyWarning, require
+from .deps import StudyError, StudyWarning, require
 from ._run import prepare, run_chunks
 from .design import Design, design_points, parameter_specs
 from .metrics import resolve_metrics

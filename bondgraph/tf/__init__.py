@@ -1,6 +1,6 @@
 """Symbolic transfer functions, pole/zero tables and LaTeX from state-space matrices.
 
-The public API (also re-exported by :mod:`bondgraph.transfer`):
+The public API:
 
 - :func:`transfer_function`, :func:`transfer_matrix` -> :class:`SymbolicTF`,
   :class:`TransferMatrix`; ``.subs(values)`` -> :class:`NumericTF`.
@@ -37,6 +37,7 @@ from .latex import (factored_latex, matrix_latex, numeric_tf_latex, poly_latex,
 from .symbolic import (NORMALIZATIONS, NumericTF, NumericTransferMatrix, SymbolicTF,
                        TransferMatrix, transfer_function, transfer_matrix)
 from .tables import PoleZeroRow, PoleZeroTable, pole_zero_table
+from ._checks import resolve_signal
 
 __all__ = [
     "transfer_function", "transfer_matrix", "SymbolicTF", "NumericTF", "TransferMatrix",
@@ -46,4 +47,5 @@ __all__ = [
     "state_equations_latex", "state_space_latex",
     "TransferFunctionError", "ShapeError", "UnknownSignalError", "SingularPencilError",
     "MissingValueError", "ParameterValueError", "InvalidOptionError", "MatrixEntryError",
+    "resolve_signal",
 ]

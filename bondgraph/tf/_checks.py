@@ -8,7 +8,7 @@ argument at fault.
 
 Examples
 --------
->>> _resolve("omega", ("i", "omega"), "output")
+>>> resolve_signal("omega", ("i", "omega"), "output")
 1
 >>> _signal_names(None, 2, "u", "input_names")
 ('u1', 'u2')
@@ -21,7 +21,7 @@ from typing import Literal
 import numpy as np
 import sympy as sp
 
-from ..values import as_expr, as_matrix
+from .._support.sympify import as_expr, as_matrix
 from .errors import InvalidOptionError, ShapeError, UnknownSignalError
 
 __all__ = ["Normalize", "NORMALIZATIONS", "METHODS"]
@@ -84,7 +84,7 @@ def _signal_names(names, count: int, default: str, what: str) -> tuple[str, ...]
     return names
 
 
-def _resolve(sel, names: tuple[str, ...], what: str) -> int:
+def resolve_signal(sel, names: tuple[str, ...], what: str) -> int:
     plural = what + "s"
     valid = ", ".join(repr(x) for x in names)
     if sel is None:

@@ -15,7 +15,7 @@ from typing import Callable, Iterable, Sequence, SupportsFloat, cast
 
 import sympy as sp
 
-from .._labels import tex
+from .._support.labels import tex
 
 __all__ = ["monomial", "poly_terms", "numeric_sum", "symbolic_sum"]
 

@@ -21,8 +21,8 @@ from typing import Sequence
 import numpy as np
 import sympy as sp
 
-from .._labels import latex_dot, latex_name, tex
-from ..values import as_matrix
+from .._support.labels import latex_dot, latex_name, tex
+from .._support.sympify import as_matrix
 from ._terms import monomial, numeric_sum, poly_terms, symbolic_sum
 from .errors import InvalidOptionError, ShapeError
 from .tables import latex_number, snap_roots
@@ -53,7 +53,7 @@ def name_latex(name: str) -> str:
 
 
 def dot_latex(name: str) -> str:
-    r"""LaTeX of the time derivative of a state name (:func:`bondgraph._labels.latex_dot`).
+    r"""LaTeX of the time derivative of a state name (:func:`bondgraph._support.labels.latex_dot`).
 
     The dot goes over the symbol, subscripts stay outside, as sympy prints
     ``Symbol("xdot_2")``.

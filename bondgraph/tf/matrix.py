@@ -20,12 +20,12 @@ from typing import Any, Mapping
 
 import sympy as sp
 
-from ._checks import _resolve
+from ._checks import resolve_signal
 from ._exact import _domain_gens, _poly_values, _value_map
 from .errors import UnknownSignalError
 from .latex import poly_latex
 from .numeric_tf import NumericTransferMatrix
-from .._pause import paused_gc
+from .._support.gcpause import paused_gc
 from .symbolic_tf import SymbolicTF, _entry, _tf_from_exprs
 
 __all__ = ["TransferMatrix"]
@@ -84,8 +84,8 @@ class TransferMatrix:
         if not (isinstance(key, tuple) and len(key) == 2):
             raise UnknownSignalError(f"key: expected (output, input), got {key!r}")
         out, inp = key
-        i = _resolve(out, self.output_names, "output")
-        j = _resolve(inp, self.input_names, "input")
+        i = resolve_signal(out, self.output_names, "output")
+        j = resolve_signal(inp, self.input_names, "input")
         if self._raw is not None:
             conv, dd, nds = self._raw
             with paused_gc():

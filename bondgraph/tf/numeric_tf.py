@@ -14,8 +14,8 @@ from typing import Sequence
 
 import numpy as np
 
-from .._labels import control_labels
-from ._checks import _resolve
+from .._support.labels import control_labels
+from ._checks import resolve_signal
 from ._terms import numeric_sum, poly_terms
 from .errors import InvalidOptionError
 from .latex import numeric_tf_latex
@@ -162,8 +162,8 @@ class NumericTransferMatrix:
 
     def __getitem__(self, key) -> NumericTF:
         out, inp = key
-        i = _resolve(out, self.output_names, "output")
-        j = _resolve(inp, self.input_names, "input")
+        i = resolve_signal(out, self.output_names, "output")
+        j = resolve_signal(inp, self.input_names, "input")
         return NumericTF(self.nums[i][j], self.den, self.input_names[j],
                          self.output_names[i], self.s_name)
 

@@ -48,9 +48,9 @@ import sympy as sp
 
 from . import _algebra as alg
 from ._checks import (METHODS, NORMALIZATIONS, Normalize, _check_options, _check_shapes,
-                      _resolve, _signal_names)
+                      resolve_signal, _signal_names)
 from ._convert import _Converter
-from .._pause import paused_gc
+from .._support.gcpause import paused_gc
 from ._packed import can_pack, packed_determinants
 from ._packed_ops import clear_terms, normalize_terms
 from .errors import InvalidOptionError, SingularPencilError
@@ -180,8 +180,8 @@ def transfer_function(A, B, C, D=None, *, E=None, input: str | int | None = None
     """
     A, B, C, D, E, ins, outs, s = _prepare(A, B, C, D, E, input_names, output_names, s,
                                            normalize, method)
-    j = _resolve(input, ins, "input")
-    i = _resolve(output, outs, "output")
+    j = resolve_signal(input, ins, "input")
+    i = resolve_signal(output, outs, "output")
     with paused_gc():
         enc, den, nums = _compute(A, B[:, j], C[i, :], D[i, j:j + 1], E, s, method, backend)
         return _entry(_Converter(enc.ring, enc.params), nums[0][0], den, s, ins[j], outs[i],

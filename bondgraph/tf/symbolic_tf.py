@@ -24,7 +24,7 @@ import numpy as np
 import sympy as sp
 
 from ..parameters import exact_value, match_values
-from ..values import as_expr
+from .._support.sympify import as_expr
 from . import _algebra as alg
 from ._checks import Normalize, _check_options
 from ._convert import _Converter

@@ -1,0 +1,225 @@
+"""Algebraic loops and derivative-causality blocks: exact linear solves.
+
+The unknowns that break zero-order causal loops (and the state derivatives of
+a model with derivative causality) satisfy ``u = expr(u, ...)``.  They are
+solved block by block (strongly connected components, in causal order).  A
+block with parameter coefficients and a right-hand side linear in the knowns
+(states, inputs, their derivatives) is solved over the field of rational
+functions of the parameters with sympy's ``DomainMatrix``: every coefficient
+comes out as one reduced fraction, never nested, so what follows (state
+space, transfer functions) stays small.  Other blocks (nonlinear laws) use
+sympy's ``LUsolve``.
+"""
+
+from __future__ import annotations
+
+from typing import Mapping, Optional
+
+import networkx as nx
+import sympy
+from sympy.polys.matrices import DomainMatrix
+from sympy.polys.matrices.exceptions import DMNonInvertibleMatrixError
+from sympy.polys.polyerrors import CoercionFailed
+
+from ..errors import AlgebraicLoopError
+
+__all__ = ["SingularLoopError", "compact_linear", "field_matrix", "solve_blocks"]
+
+
+class SingularLoopError(AlgebraicLoopError):
+    """A singular loop block; ``storage`` names the integral storage elements in it."""
+
+    storage: tuple[str, ...] = ()
+    block: tuple = ()
+
+
+_SINGULAR: list = []
+
+
+def field_matrix(M: sympy.Matrix) -> Optional[DomainMatrix]:
+    """``M`` over the field of rational functions of its symbols (QQ), or None.
+
+    The domain is built directly (``QQ.frac_field``) and each entry converted by
+    field arithmetic: sympy's automatic domain construction runs ``together``
+    over every entry and is much slower on large loop solutions.  Floats are
+    refused (None): exact arithmetic only.
+    """
+    syms = sorted(M.free_symbols, key=sympy.default_sort_key)
+    dom = sympy.QQ.frac_field(*syms) if syms else sympy.QQ
+    try:
+        rows = [[dom.from_sympy(M[i, j]) for j in range(M.cols)] for i in range(M.rows)]
+    except (CoercionFailed, NotImplementedError, ValueError, ZeroDivisionError):
+        return None
+    return DomainMatrix(rows, (M.rows, M.cols), dom)
+
+
+def _solve_linear_in_knowns(M: sympy.Matrix, rhs: sympy.Matrix, knowns: set):
+    """Solve ``M z = rhs`` exactly when ``M`` holds parameters only and ``rhs`` is
+    linear in the knowns: the coefficients are solved over the field of rational
+    functions of the parameters (reduced fractions, no nesting), so that
+    ``z = X k + x0`` stays compact.  None when that form does not apply;
+    ``_SINGULAR`` when ``M`` is singular."""
+    n = M.rows
+    if any(M[i, j].free_symbols & knowns for i in range(n) for j in range(n)):
+        return None
+    ks = sorted(set().union(*(r.free_symbols for r in rhs)) & knowns, key=sympy.default_sort_key)
+    R = sympy.zeros(n, len(ks) + 1)
+    zero = {k: 0 for k in ks}
+    for i in range(n):
+        r = rhs[i]
+        for j, k in enumerate(ks):
+            c = sympy.diff(r, k)
+            if c.free_symbols & knowns:
+                return None
+            R[i, j] = c
+        R[i, len(ks)] = r.xreplace(zero)
+    full = field_matrix(M.row_join(R))
+    if full is None:
+        return None
+    A, B = full[:, :n], full[:, n:]
+    try:
+        X = A.lu_solve(B).to_Matrix()
+    except DMNonInvertibleMatrixError:
+        return _SINGULAR
+    return [sympy.Add(*(X[i, j] * k for j, k in enumerate(ks))) + X[i, len(ks)]
+            for i in range(n)]
+
+
+
+def solve_blocks(unknowns: dict[sympy.Symbol, sympy.Expr], *, knowns: set, what: str,
+                 model: str, states: Mapping[str, sympy.Symbol]) -> dict:
+    """Solve ``u = expr(u, ...)`` for the unknowns, block by block in causal order.
+
+    Blocks are the strongly connected components of "unknown appears in the
+    expression of unknown"; each block must be linear in its own unknowns.
+
+    Parameters
+    ----------
+    unknowns : dict
+        Unknown -> its expression (which may hold unknowns).
+    knowns : set
+        Symbols that are not parameters (states, inputs, derivatives, time).
+    what : str
+        What the unknowns are, for messages ("algebraic loop").
+    model : str
+        Model name, for messages.
+    states : mapping
+        Storage element name -> state symbol, to name the storage in a singular block.
+
+    Raises
+    ------
+    AlgebraicLoopError
+        A block nonlinear in its unknowns.
+    SingularLoopError
+        A singular block; ``storage`` names the storage elements in it.
+
+    Examples
+    --------
+    >>> import sympy
+    >>> z, x, R = sympy.symbols("z x R")
+    >>> solve_blocks({z: x - R*z}, knowns={x}, what="loop", model="m", states={})
+    {z: x/(R + 1)}
+    """
+    if not unknowns:
+        return {}
+    dg = nx.DiGraph()
+    dg.add_nodes_from(unknowns)
+    for u, ex in unknowns.items():
+        for s in ex.free_symbols:
+            if s in unknowns:
+                dg.add_edge(s, u)
+    sol: dict[sympy.Symbol, sympy.Expr] = {}
+    cond = nx.condensation(dg)
+    for c in nx.topological_sort(cond):
+        block = sorted(cond.nodes[c]["members"], key=sympy.default_sort_key)
+        eqs = [unknowns[u].xreplace(sol) for u in block]
+        if len(block) == 1 and block[0] not in eqs[0].free_symbols:
+            sol[block[0]] = eqs[0]
+            continue
+        zero = {u: 0 for u in block}
+        M = sympy.zeros(len(block))
+        rhs = sympy.zeros(len(block), 1)
+        for i, (u, ex) in enumerate(zip(block, eqs)):
+            for j, w in enumerate(block):
+                a = sympy.diff(ex, w)
+                if a.free_symbols & set(block):
+                    raise AlgebraicLoopError(
+                        f"model {model!r}: the {what} in {', '.join(map(str, block))} "
+                        "is nonlinear in its unknowns; give an explicit (inverse) law for the "
+                        "R or storage element involved"
+                    )
+                M[i, j] = (1 if i == j else 0) - a
+            rhs[i] = ex.xreplace(zero)
+        singular = SingularLoopError(
+            f"model {model!r}: the {what} in {', '.join(u.name for u in block)} "
+            "is singular: the junction structure does not determine these variables (a "
+            "node whose potential is defined only up to a constant, such as a circuit "
+            "drawn with a 0-junction for every node including ground: remove the ground "
+            "node's junction; or storage elements joined so that they cannot be "
+            "independent)")
+        singular.block = tuple(block)
+        singular.storage = tuple(sorted(
+            n for n, x in states.items()
+            if any(x in (eq.free_symbols if hasattr(eq, "free_symbols") else ())
+                   for eq in list(rhs) + list(M))))
+        exact = _solve_linear_in_knowns(M, rhs, knowns)
+        if exact is not None:
+            if exact is _SINGULAR:
+                raise singular
+            sol.update(zip(block, exact))
+            continue
+        M = M.applyfunc(sympy.cancel)
+        det = M[0, 0] if len(block) == 1 else sympy.cancel(M.det(method="bareiss"))
+        if det == 0:
+            raise singular
+        if len(block) == 1:
+            sol[block[0]] = rhs[0] / det
+        else:
+            x = M.LUsolve(rhs)
+            for u, val in zip(block, x):
+                sol[u] = val
+    return sol
+
+
+def compact_linear(exprs: list, knowns: set) -> list:
+    """Each expression linear in the knowns rewritten ``sum_k c_k k + c_0`` with every
+    coefficient one reduced fraction of the parameters (nonlinear ones unchanged).
+
+    After loop solutions are substituted, a coefficient is a sum of products of
+    fractions; reducing it in sympy's field of rational functions (sparse
+    polynomial arithmetic) is far cheaper than ``together``/``cancel`` on the
+    expression tree, and keeps what follows (state space, transfer functions)
+    small.
+
+    Examples
+    --------
+    >>> import sympy
+    >>> x, a, b = sympy.symbols("x a b")
+    >>> compact_linear([x/(a*b) + x/b - 2], {x})
+    [-2 + x*(a + 1)/(a*b)]
+    """
+    from sympy.polys.fields import field
+
+    params: set = set()
+    for ex in exprs:
+        params |= ex.free_symbols - knowns
+    if not params:
+        return list(exprs)
+    K, *_ = field(sorted(params, key=sympy.default_sort_key), sympy.QQ)
+    out = []
+    for ex in exprs:
+        ks = sorted(ex.free_symbols & knowns, key=sympy.default_sort_key)
+        parts = []
+        try:
+            for k in ks:
+                c = sympy.diff(ex, k)
+                if c.free_symbols & knowns:
+                    raise ValueError("nonlinear")
+                parts.append(K.from_expr(c).as_expr() * k)
+            const = ex.xreplace({k: 0 for k in ks})
+            parts.append(K.from_expr(const).as_expr() if const != 0 else sympy.Integer(0))
+        except (ValueError, CoercionFailed, ZeroDivisionError):
+            out.append(ex)
+            continue
+        out.append(sympy.Add(*parts))
+    return out

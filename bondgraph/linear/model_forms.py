@@ -1,0 +1,199 @@
+"""Linear forms of derived equations: state space, descriptor form, Laplace systems,
+transfer functions, symbolic linearization.
+
+Each function reads a :class:`~bondgraph.equations.StateEquations` record (a
+:class:`bondgraph.Model` is one) and is what the model's method of the same
+name calls.  Results that are computed once per model (the state space, the
+descriptor form) are cached on the record.
+
+Examples
+--------
+>>> from bondgraph import examples
+>>> from bondgraph.equations import derive_equations
+>>> from bondgraph.linear import state_space
+>>> ss = state_space(derive_equations(examples.rc()))
+>>> ss.A, ss.B
+(Matrix([[-1/(C*R)]]), Matrix([[1/R]]))
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import sympy
+
+from ..equations import StateEquations
+from ..errors import NonlinearModelError
+from ..signals import t as T_SYM
+from ..tf import transfer_function as tf_transfer_function
+from ..tf import transfer_matrix as tf_transfer_matrix
+from ..tf import resolve_signal
+from .forms import derivative_orders, linear_form, point_values, residual
+from .statespace import SymbolicStateSpace
+
+__all__ = ["state_space", "is_linear", "descriptor_form", "laplace_system", "derivative_form",
+           "transfer_function", "transfer_matrix", "linearize"]
+
+
+def state_space(eqs: StateEquations) -> SymbolicStateSpace:
+    """A, B, C, D of linear equations (sympy ImmutableMatrix), with names; cached.
+
+    Raises
+    ------
+    NonlinearModelError
+        If an equation is not linear in states and inputs, has a constant
+        term, depends on time or on input derivatives.
+    """
+    if "state_space" not in eqs._cache:
+        x, u = eqs.states, eqs.inputs
+        A, B = linear_form(eqs.rhs, x, u, eqs, "state equation", "x'")
+        C, D = linear_form(eqs.output_exprs, x, u, eqs, "output", "y")
+        eqs._cache["state_space"] = SymbolicStateSpace(
+            A, B, C, D, eqs.state_names, eqs.input_names, eqs.output_names,
+            known_parameters=eqs.known_parameters)
+    return eqs._cache["state_space"]
+
+
+def is_linear(eqs: StateEquations) -> bool:
+    """Whether ``rhs`` and outputs are linear in states and inputs."""
+    try:
+        state_space(eqs)
+    except NonlinearModelError:
+        return False
+    return True
+
+
+def laplace_system(eqs: StateEquations, descriptor: bool, s: sympy.Symbol, outputs=None):
+    """``A, B(s), C, D(s), E`` of the Laplace-transformed equations.
+
+    Input derivatives enter as powers of ``s`` (zero initial conditions):
+    ``x' = A x + B0 u + B1 u'`` gives ``B(s) = B0 + s B1``, likewise for
+    ``D``.  ``outputs``: indices of the outputs to linearize (default all).
+    """
+    x, u = eqs.states, eqs.inputs
+    ud = eqs.input_derivatives
+    orders = derivative_orders(eqs) if ud else {}
+    outs = range(len(eqs.output_exprs)) if outputs is None else outputs
+    out_exprs = [eqs.output_exprs[i] for i in outs]
+    if descriptor and eqs.descriptor is not None:
+        E, F = eqs.descriptor
+        if E.free_symbols & (set(x) | set(u) | set(ud)):
+            raise NonlinearModelError(f"model {eqs.name!r}: E depends on the states")
+        A, B, B1 = linear_form(F, x, u, eqs, "state equation", "F", ud)
+    else:
+        E = None
+        A, B, B1 = linear_form(eqs.rhs, x, u, eqs, "state equation", "x'", ud)
+    C, D, D1 = linear_form(out_exprs, x, u, eqs, "output", "y", ud)
+
+    def with_s(M0, M1):
+        if not ud:
+            return M0
+        M = sympy.Matrix(M0)
+        for (i, k), c in M1.todok().items():
+            j, order = orders[ud[k]]
+            M[i, j] += c * s**order
+        return sympy.ImmutableMatrix(M)
+    return A, with_s(B, B1), C, with_s(D, D1), E
+
+
+def derivative_form(eqs: StateEquations):
+    """``A, (B0, B1, ..), C, (D0, D1, ..)`` of the explicit equations
+    ``x' = A x + sum_k B_k u^(k)``, ``y = C x + sum_k D_k u^(k)``.
+
+    Without input derivatives the tuples have one matrix (:func:`state_space`).
+    """
+    x, u, ud = eqs.states, eqs.inputs, eqs.input_derivatives
+    if not ud:
+        ss = state_space(eqs)
+        return ss.A, (ss.B,), ss.C, (ss.D,)
+    orders = derivative_orders(eqs)
+    A, B, B1 = linear_form(eqs.rhs, x, u, eqs, "state equation", "x'", ud)
+    C, D, D1 = linear_form(eqs.output_exprs, x, u, eqs, "output", "y", ud)
+    top = max(k for _, k in orders.values())
+
+    def split(M0, M1):
+        mats = [M0] + [sympy.zeros(*M0.shape) for _ in range(top)]
+        for (i, c), val in M1.todok().items():
+            j, k = orders[ud[c]]
+            mats[k][i, j] += val
+        return (M0,) + tuple(sympy.ImmutableSparseMatrix(M) for M in mats[1:])
+    return A, split(B, B1), C, split(D, D1)
+
+
+def transfer_function(eqs: StateEquations, input=None, output=None, *,
+                      descriptor: bool | None = None, **options):
+    """Symbolic ``G(s)`` from one input to one output (see :meth:`bondgraph.Model.transfer_function`)."""
+    use_e = eqs.descriptor is not None if descriptor is None else descriptor
+    s = options.pop("s", None) or sympy.Symbol("s")
+    i = resolve_signal(output, eqs.output_names, "output")
+    A, B, C, D, E = laplace_system(eqs, use_e, s, [i])
+    G = tf_transfer_function(A, B, C, D, E=E, input=input, output=0,
+                             input_names=eqs.input_names,
+                             output_names=(eqs.output_names[i],), s=s, **options)
+    return dataclasses.replace(G, known_parameters=eqs.known_parameters)
+
+
+def transfer_matrix(eqs: StateEquations, **options):
+    """All transfer functions over one denominator (see :meth:`bondgraph.Model.transfer_matrix`)."""
+    s = options.pop("s", None) or sympy.Symbol("s")
+    A, B, C, D, E = laplace_system(eqs, eqs.descriptor is not None, s)
+    G = tf_transfer_matrix(A, B, C, D, E=E, input_names=eqs.input_names,
+                           output_names=eqs.output_names, s=s, **options)
+    return dataclasses.replace(G, known_parameters=eqs.known_parameters)
+
+
+def descriptor_form(eqs: StateEquations) -> SymbolicStateSpace:
+    """``E x' = A x + B u`` as derived, before eliminating dependent storage; cached.
+
+    Without derivative causality ``E`` is the identity.
+    """
+    if "descriptor_form" not in eqs._cache:
+        eqs._cache["descriptor_form"] = _descriptor_form(eqs)
+    return eqs._cache["descriptor_form"]
+
+
+def _descriptor_form(eqs: StateEquations) -> SymbolicStateSpace:
+    if eqs.descriptor is None:
+        ss = state_space(eqs)
+        return SymbolicStateSpace(ss.A, ss.B, ss.C, ss.D, ss.state_names,
+                                  ss.input_names, ss.output_names,
+                                  sympy.ImmutableMatrix(sympy.eye(len(eqs.states))),
+                                  known_parameters=eqs.known_parameters)
+    E, F = eqs.descriptor
+    x, u = eqs.states, eqs.inputs
+    A, B = linear_form(F, x, u, eqs, "state equation", "F")
+    C, D = linear_form(eqs.output_exprs, x, u, eqs, "output", "y")
+    if E.free_symbols & (set(x) | set(u)):
+        raise NonlinearModelError(f"model {eqs.name!r}: E depends on the states")
+    return SymbolicStateSpace(A, B, C, D, eqs.state_names, eqs.input_names,
+                              eqs.output_names, E, known_parameters=eqs.known_parameters)
+
+
+def linearize(eqs: StateEquations, x0=None, u0=None, *, equilibrium: bool = True,
+              tol: float = 1e-9) -> SymbolicStateSpace:
+    """Symbolic Jacobians about ``(x0, u0)`` (see :meth:`bondgraph.Model.linearize`)."""
+    x, u = eqs.states, eqs.inputs
+    point = {**point_values(eqs, x0, x, "state"), **point_values(eqs, u0, u, "input")}
+    bad = set(eqs.input_derivatives) | {T_SYM}
+    for ex in eqs.rhs + eqs.output_exprs:
+        if ex.free_symbols & bad:
+            raise NonlinearModelError(
+                f"model {eqs.name!r} depends on {', '.join(map(str, ex.free_symbols & bad))}; "
+                "it cannot be linearized to a constant (A, B)")
+    if equilibrium:
+        if isinstance(tol, bool) or not isinstance(tol, (int, float)) or not tol >= 0:
+            raise NonlinearModelError(f"tol: expected a number >= 0, got {tol!r}")
+        for s_, r in zip(x, eqs.rhs):
+            val = residual(r, point, tol)
+            if val is not None:
+                raise NonlinearModelError(
+                    f"model {eqs.name!r}: the operating point is not an equilibrium: "
+                    f"d{s_.name}/dt = {val} there (tol={tol:g}); pass equilibrium=False "
+                    "to linearize about a non-equilibrium point")
+
+    def jac(exprs, wrt):
+        return sympy.ImmutableMatrix(len(exprs), len(wrt), lambda i, j: sympy.simplify(
+            sympy.diff(exprs[i], wrt[j]).xreplace(point)))
+    return SymbolicStateSpace(jac(eqs.rhs, x), jac(eqs.rhs, u), jac(eqs.output_exprs, x),
+                              jac(eqs.output_exprs, u), eqs.state_names, eqs.input_names,
+                              eqs.output_names, known_parameters=eqs.known_parameters)

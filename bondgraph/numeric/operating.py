@@ -1,0 +1,61 @@
+"""The numeric plant at an operating point: a model linearized there at parameter values.
+
+:meth:`bondgraph.Model.linearize` calls :func:`linear_plant` when it is given
+numeric parameter values or an :class:`~bondgraph.linear.Equilibrium`.
+
+Examples
+--------
+>>> from bondgraph import examples
+>>> from bondgraph.equations import derive_equations
+>>> from bondgraph.numeric import linear_plant
+>>> plant = linear_plant(derive_equations(examples.rc()), {"q_C": 1.0}, {"V": 1.0},
+...                      {"R": 2.0, "C": 1.0}, tol=1e-9)
+>>> plant.A, plant.B
+(array([[-0.5]]), array([[0.5]]))
+"""
+
+from __future__ import annotations
+
+from typing import Any, Mapping, Optional
+
+import numpy as np
+import sympy
+
+from ..equations import StateEquations
+from ..errors import BondGraphError
+from ..linear import Equilibrium, EquilibriumError, linearize
+from ..parameters import ParameterValues, match_values, real_value
+from .statespace import NumericStateSpace
+
+__all__ = ["linear_plant"]
+
+
+def linear_plant(model: StateEquations, point: Equilibrium | Mapping, inputs: Optional[Mapping],
+                 values: ParameterValues, tol: float) -> Any:
+    """Numeric plant of ``model`` linearized at ``point`` (see :meth:`Model.linearize`)."""
+    where = f"model {model.name!r}: "
+    if isinstance(point, Equilibrium):
+        x0, u0 = dict(point.states), dict(point.inputs)
+        if inputs is not None:
+            raise BondGraphError(f"{where}give the inputs in the Equilibrium, not again as u0")
+    else:
+        x0, u0 = dict(point or {}), dict(inputs or {})
+    params = match_values(model.parameters, values, known=model.known_parameters, where=where)
+    pvals = {p: sympy.Float(real_value(v, p.name, where), 17) for p, v in params.items()}
+    lin = linearize(model, x0, u0, equilibrium=False)
+    num = lin.subs({p.name: v for p, v in pvals.items()}, partial=False) if lin.parameters else lin
+    f0 = [float(r.xreplace({**{s: sympy.Float(x0[s.name], 17) for s in model.states},
+                            **{u: sympy.Float(u0.get(u.name, 0.0), 17) for u in model.inputs},
+                            **pvals})) for r in model.rhs]
+    if f0 and max(abs(v) for v in f0) > tol * max(1.0, max(abs(v) for v in x0.values()) if x0 else 1.0):
+        raise EquilibriumError(
+            f"{where}the operating point is not an equilibrium at these values: "
+            + ", ".join(f"d{s.name}/dt = {v:.3g}" for s, v in zip(model.states, f0) if abs(v) > tol)
+            + "; use model.equilibrium(...) to find one")
+
+    def arr(M):
+        return np.array([[float(M[i, j]) for j in range(M.cols)] for i in range(M.rows)],
+                        dtype=float).reshape(M.shape)
+    return NumericStateSpace(arr(num.A), arr(num.B), arr(num.C), arr(num.D), lin.state_names,
+                             lin.input_names, lin.output_names,
+                             {p.name: float(v) for p, v in pvals.items()}, model.name)
