@@ -24,9 +24,8 @@ import importlib
 import importlib.abc
 import importlib.machinery
 import sys
-import warnings
-from types import FrameType
-from typing import Optional
+
+from .warn import warn_user
 
 __all__ = ["MOVED", "install"]
 
@@ -64,19 +63,8 @@ class _MovedFinder(importlib.abc.MetaPathFinder):
         new = MOVED.get(fullname)
         if new is None:
             return None
-        warnings.warn(f"{fullname} is deprecated; import from {new}", DeprecationWarning,
-                      stacklevel=_caller_level())
+        warn_user(f"{fullname} is deprecated; import from {new}", DeprecationWarning)
         return importlib.machinery.ModuleSpec(fullname, _Loader(new))
-
-
-def _caller_level() -> int:
-    """The stack level of the first frame outside importlib (the user's import line)."""
-    frame: Optional[FrameType] = sys._getframe(1)
-    level = 1
-    while frame is not None and ("importlib" in frame.f_code.co_filename
-                                 or frame.f_code.co_filename == __file__):
-        frame, level = frame.f_back, level + 1
-    return level
 
 
 def install() -> None:

@@ -33,12 +33,12 @@ Examples
 
 from __future__ import annotations
 
-import warnings
 from typing import Mapping, Optional, Union
 
 import sympy
 
 from .._support.gcpause import with_paused_gc
+from .._support.warn import warn_user
 from ..causality import AugmentedBondGraph, assign_causality, dependencies
 from ..errors import (AlgebraicLoopError, BondGraphWarning, CausalityError, NameClashError,
                      OutputError)
@@ -112,7 +112,7 @@ def _warn_reversed(flat: FlatGraph) -> None:
     carrying power out of an I, C or R)."""
     for el in flat.elements:
         for message in el.bond_warnings(tuple(flat.bonds[k] for k in flat.incidence[el.name])):
-            warnings.warn(message, BondGraphWarning, stacklevel=3)
+            warn_user(message, BondGraphWarning)
 
 
 def _check_outputs(outputs: OutputSpec) -> dict[str, sympy.Expr]:
