@@ -1,0 +1,47 @@
+"""Switched (hybrid) bond graphs: ideal switches, diodes, controlled switches and their modes.
+
+A switch (:class:`Switch`, :class:`Diode`, :class:`ControlledSwitch`) is an
+element of the protocol: on, it is a zero-effort source; off, a zero-flow
+source.  A :class:`SwitchedModel` derives one ordinary
+:class:`~bondgraph.Model` per mode (lazily, cached); :func:`simulate` runs
+it with events (guards from diode flows and efforts and from gates) and
+re-initialises the state when a mode change removes states; :func:`average`
+gives the state-space average of a PWM-switched model in the duty cycle.
+
+Nothing here is imported by ``import bondgraph``: ``import bondgraph.hybrid``.
+
+Examples
+--------
+>>> import bondgraph as bg
+>>> from bondgraph import hybrid
+>>> g = bg.BondGraph("rl")
+>>> g.add(bg.Se("E"), bg.One("i"), bg.R("R"), bg.I("L"), hybrid.Switch("S", on=True))
+>>> for a, b in [("E", "i"), ("i", "R"), ("i", "L"), ("i", "S")]: _ = g.connect(a, b)
+>>> sm = hybrid.SwitchedModel(g)
+>>> sm.mode(on={"S"}).rhs, sm.mode(off={"S"}).state_names
+((E - R*p_L/L,), ())
+"""
+
+from .elements import ControlledSwitch, Diode, Switch, SwitchElement, pwm
+from .errors import ChatteringError, EventBudgetError, HybridError, ModeError
+from .modes import Mode, ModeModel, SwitchedModel, derive_switched
+
+__all__ = [
+    "SwitchElement", "Switch", "Diode", "ControlledSwitch", "pwm",
+    "Mode", "ModeModel", "SwitchedModel", "derive_switched",
+    "simulate", "SwitchedResult", "SwitchEvent", "average",
+    "HybridError", "ModeError", "ChatteringError", "EventBudgetError",
+]
+
+
+def __getattr__(name: str):
+    """The simulation (scipy) and averaging parts load on first use."""
+    if name in ("simulate", "SwitchedResult", "SwitchEvent"):
+        from . import simulate as _sim
+
+        return getattr(_sim, name)
+    if name == "average":
+        from .average import average
+
+        return average
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
