@@ -37,11 +37,11 @@ __all__ = [
 def __getattr__(name: str):
     """The simulation (scipy) and averaging parts load on first use."""
     if name in ("simulate", "SwitchedResult", "SwitchEvent"):
-        from . import simulate as _sim
+        from . import events as _sim
 
         return getattr(_sim, name)
     if name == "average":
-        from .average import average
+        from .averaging import average
 
         return average
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -162,7 +162,13 @@ class SwitchedModel:
                 for s in sorted(gate_signals(el.guard(on)), key=str):
                     if s not in signals:
                         signals.append(s)
-        #: the signals read by the guards, in the order of the ``hyb_S*`` outputs
+        for expr in self.user_outputs.values():
+            if isinstance(expr, sympy.Expr):
+                for s in sorted(gate_signals(expr), key=str):
+                    if s not in signals:
+                        signals.append(s)
+        #: the signals read by the guards and the outputs, in the order of the ``hyb_S*``
+        #: outputs (an integrator state of one of them carries over between modes)
         self.guard_signals: tuple = tuple(signals)
         self._cache: dict = {}
 
@@ -297,13 +303,13 @@ class SwitchedModel:
     # the numeric and averaging parts live in their own modules
     def simulate(self, t_span, x0=None, *, values=None, inputs=None, **options):
         """Simulate with events; see :func:`bondgraph.hybrid.simulate`."""
-        from .simulate import simulate
+        from .events import simulate
 
         return simulate(self, t_span, x0, values=values, inputs=inputs, **options)
 
     def average(self, duty, active, passive, *, name: Optional[str] = None) -> Model:
         """State-space average of two modes; see :func:`bondgraph.hybrid.average`."""
-        from .average import average
+        from .averaging import average
 
         return average(self, duty, active, passive, name=name)
 
