@@ -136,7 +136,9 @@ def simulate(sm: SwitchedModel, t_span: Sequence[float], x0: Optional[Mapping[st
     t_span : (t0, t1)
     x0 : mapping of str to float, optional
         Initial stored quantities by state name (``p_J1``, ``q_C``) and
-        initial integrator states by name; missing ones are 0.  The initial
+        initial integrator states by name, or by the name of an output that
+        is one displacement or momentum signal (``x`` for
+        ``outputs={"x": bg.displacement("m")}``); missing ones are 0.  The initial
         mode is the built one if it is consistent with ``x0``, else the
         consistent one with fewest flips (re-initialised if it must be).
     values : mapping
@@ -326,6 +328,9 @@ class _Run:
                 integ.setdefault(sig, 0.0)
         for s in self.sm.guard_signals:
             integ.setdefault(str(s), 0.0)
+        for name, expr in self.sm.user_outputs.items():     # x0={"x": ...} for x = displacement
+            if isinstance(expr, Signal) and str(expr) in integ:
+                integ_names.setdefault(name, str(expr))
         for key, v in x0.items():
             if key in valid:
                 q[self.labels.index(key)] = real_value(v, key)
