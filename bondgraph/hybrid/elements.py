@@ -114,7 +114,7 @@ class SwitchElement(Element):
         return sympy.Integer(0)
 
     def drawing_label(self) -> tuple[str, str]:
-        return self.label(), f"{self.name} {'closed' if self.on else 'open'}"
+        return self.label(), "closed" if self.on else "open"
 
 
 @dataclass(frozen=True, eq=False)

@@ -311,7 +311,7 @@ class _Run:
         return cm
 
     def default_max_step(self) -> float:
-        steps = [float(sympy.sympify(el.period).xreplace(self.subs)) / 50
+        steps = [float(el.period.xreplace(self.subs)) / 50
                  for el in (self.sm.element(n) for n in self.sm.switches)
                  if getattr(el, "period", None) is not None]
         return min(steps) if steps else math.inf

@@ -138,3 +138,11 @@ def test_switch_state_must_be_bool_and_gate_an_expression():
         Diode("D", on=1)
     with pytest.raises(bg.BondGraphError, match="gate must be a sympy expression"):
         ControlledSwitch("S", gate="t > 1")
+
+
+def test_a_mode_is_drawn_with_its_switch_states():
+    sm = SwitchedModel(library.buck())
+    svg = bg.draw(sm.mode(on={"D"}, off={"S"}))
+    # the diode conducts (closed), the switch blocks (open); strokes as the mode's causality
+    assert "CSw:S" in svg and "D:D" in svg
+    assert svg.count(">open<") == 1 and svg.count(">closed<") == 1
