@@ -307,6 +307,20 @@ class SwitchedModel:
 
         return simulate(self, t_span, x0, values=values, inputs=inputs, **options)
 
+    def simulate_with_events(self, values, t_span, x0=None, *, u=None, t_eval=None,
+                             method: str = "RK45", rtol: float = 1e-9, atol=1e-12, max_step=None):
+        """What ``bondgraph.simulate(switched_model, values, t_span, x0, u=...)`` calls.
+
+        ``u``: None or a mapping of input name to a number or a function of time.
+        """
+        from .events import simulate
+
+        if u is not None and not isinstance(u, Mapping):
+            raise ModeError(f"model {self.name!r} is switched: give its inputs as u={{name: "
+                            f"number or function of t}}; got {type(u).__name__}")
+        return simulate(self, t_span, x0, values=values, inputs=u, t_eval=t_eval, method=method,
+                        rtol=rtol, atol=atol, max_step=max_step)
+
     def average(self, duty, active, passive, *, name: Optional[str] = None) -> Model:
         """State-space average of two modes; see :func:`bondgraph.hybrid.average`."""
         from .averaging import average

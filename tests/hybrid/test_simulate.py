@@ -173,3 +173,13 @@ def test_bad_initial_state_and_inputs_are_named():
         simulate(sm, (0, 1), values=vals)
     with pytest.raises(bg.MissingValueError, match="t_lock"):
         simulate(sm, (0, 1), values={"J1": 1, "J2": 2}, inputs={"tau": 1})
+
+
+def test_bg_simulate_runs_a_switched_model_with_events():
+    sm = SwitchedModel(library.clutch(), outputs={"w2": bg.flow("J2")})
+    res = bg.simulate(sm, {"J1": 1, "J2": 2, "t_lock": 1}, (0, 2), {"p_J2": 6.0}, u={"tau": 1.0},
+                      rtol=1e-9, atol=1e-12)
+    # common velocity (1*1 + 2*3)/3 at the lock, then (J1 + J2) w' = tau
+    assert res.outputs["w2"][-1] == pytest.approx(7 / 3 + 1 / 3, rel=1e-9)
+    with pytest.raises(bg.BondGraphError, match="is switched"):
+        bg.simulate(sm, {"J1": 1, "J2": 2, "t_lock": 1}, (0, 2), u=[1.0])
