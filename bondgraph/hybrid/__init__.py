@@ -23,11 +23,12 @@ Examples
 """
 
 from .elements import ControlledSwitch, Diode, Switch, SwitchElement, pwm
+from .junctions import SwitchedOne, SwitchedZero
 from .errors import ChatteringError, EventBudgetError, HybridError, ModeError
 from .modes import Mode, ModeModel, SwitchedModel, derive_switched
 
 __all__ = [
-    "SwitchElement", "Switch", "Diode", "ControlledSwitch", "pwm",
+    "SwitchElement", "Switch", "Diode", "ControlledSwitch", "pwm", "SwitchedZero", "SwitchedOne",
     "Mode", "ModeModel", "SwitchedModel", "derive_switched",
     "simulate", "SwitchedResult", "SwitchEvent", "average",
     "HybridError", "ModeError", "ChatteringError", "EventBudgetError",

@@ -146,3 +146,23 @@ def test_a_mode_is_drawn_with_its_switch_states():
     # the diode conducts (closed), the switch blocks (open); strokes as the mode's causality
     assert "CSw:S" in svg and "D:D" in svg
     assert svg.count(">open<") == 1 and svg.count(">closed<") == 1
+
+
+def test_switched_zero_junction_by_hand():
+    from bondgraph.hybrid import SwitchedZero
+
+    g = bg.BondGraph("sj")
+    g.add(bg.Se("E"), bg.One("i"), bg.R("R1"), SwitchedZero("n"), bg.C("C"), bg.R("R2"))
+    for t, h in [("E", "i"), ("i", "R1"), ("i", "n"), ("n", "C"), ("n", "R2")]:
+        g.connect(t, h)
+    sm = SwitchedModel(g, outputs={"i1": bg.flow("R1"), "i2": bg.flow("R2"), "v": bg.effort("C")})
+    C_, q = sympy.Symbol("C", positive=True), sympy.Symbol("q_C", real=True)
+    on = sm.mode(on={"n"})
+    # on, an ordinary node: C charged through R1 and drained by R2 (Kirchhoff)
+    assert _same(on.rhs[0], (E - q / C_) / R1 - q / (C_ * R2))
+    off = sm.mode(off={"n"})
+    # off: zero effort on every bond of the node: C has no state and no charge, R2 no current,
+    # and R1 carries E/R1 into the junction
+    assert off.states == ()
+    assert _same(off.output_exprs[0], E / R1) and off.output_exprs[1:] == (0, 0)
+    assert sm.causality_changes == {"C": ("n off",)}
