@@ -54,7 +54,9 @@ class EnergyMetric:
         return float(self._H(*q)[0]) if self.n else 0.0
 
     def hessian(self, q: np.ndarray) -> np.ndarray:
-        return np.array(self._Q(*q), dtype=float).reshape(self.n, self.n)
+        if self._Q is None:
+            return np.zeros((0, 0))
+        return np.asarray(self._Q(*q), dtype=np.float64).reshape(self.n, self.n)
 
 
 class CompiledMode:
@@ -162,8 +164,9 @@ class CompiledMode:
                 f"mode ({self.mode}) of model {sm.name!r} puts {', '.join(self.dependent)} in "
                 "derivative causality with stored quantities that are not affine in the "
                 "mode's states; the state re-initialisation needs linear storage laws there")
-        M = np.array(self._M(t, *u), dtype=float).reshape(len(q_old), n)
-        c = np.array(self._c(t, *u), dtype=float).reshape(-1)
+        assert self._M is not None and self._c is not None     # affine, checked above
+        M = np.asarray(self._M(t, *u), dtype=np.float64).reshape(len(q_old), n)
+        c = np.asarray(self._c(t, *u), dtype=np.float64).reshape(-1)
         if n:
             Q = metric.hessian(q_old)
             A = M.T @ Q @ M

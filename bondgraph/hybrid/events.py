@@ -311,9 +311,8 @@ class _Run:
         return cm
 
     def default_max_step(self) -> float:
-        steps = [float(el.period.xreplace(self.subs)) / 50
-                 for el in (self.sm.element(n) for n in self.sm.switches)
-                 if getattr(el, "period", None) is not None]
+        periods = [getattr(self.sm.element(n), "period", None) for n in self.sm.switches]
+        steps = [float(p.xreplace(self.subs)) / 50 for p in periods if p is not None]
         return min(steps) if steps else math.inf
 
     def initial_state(self, x0) -> tuple[np.ndarray, dict]:
@@ -391,8 +390,8 @@ class _Run:
 
             def ev(tt, y, g=g, off=off):
                 return float(np.asarray(g(tt, *y[:-1], *u(tt))).reshape(-1)[0]) + off
-            ev.terminal = True
-            ev.direction = -1
+            ev.terminal = True      # type: ignore[attr-defined]
+            ev.direction = -1       # type: ignore[attr-defined]
             events.append(ev)
         y0 = np.append(np.asarray(x, dtype=float), 0.0)
         return solve_ivp(f, (t, t1), y0, method=method, t_eval=seg_eval, events=events or None,

@@ -21,7 +21,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import ClassVar, Optional, Sequence
+from typing import TYPE_CHECKING, Any, ClassVar, Optional, Sequence, cast
 
 import sympy
 
@@ -36,8 +36,17 @@ __all__ = ["SwitchedZero", "SwitchedOne"]
 class _Switched:
     """What the two switched junctions add to a junction (mixed in before it)."""
 
+    if TYPE_CHECKING:   # supplied by the junction and switch classes it is mixed with
+        on: bool
+        gate: Optional[sympy.Expr]
+        name: str
+        strong_in: ClassVar[bool]
+        kind: ClassVar[str]
+
+        def label(self) -> str: ...
+
     def __post_init__(self) -> None:
-        super().__post_init__()
+        cast(Any, super()).__post_init__()
         gate = self.gate
         if isinstance(gate, (int, float)) and not isinstance(gate, bool):
             gate = sympy.Float(gate) if isinstance(gate, float) else sympy.Integer(gate)
@@ -47,7 +56,7 @@ class _Switched:
         object.__setattr__(self, "gate", gate)
 
     def resolved(self, path: str) -> Element:
-        el = rename(self, path)
+        el = rename(cast(Element, self), path)
         object.__setattr__(el, "gate", prefix_signals(self.gate, path[: len(path) - len(self.name)]))
         return el
 
@@ -67,16 +76,16 @@ class _Switched:
         return tuple(Decision(p, not self.strong_in, why) for p in range(ports.count))
 
     def propagate(self, ports: CausalPorts) -> Sequence[Decision]:
-        return super().propagate(ports) if self.on else ()
+        return cast(Any, super()).propagate(ports) if self.on else ()
 
     def output_dependencies(self, effort_in: Sequence[bool],
                             causality: Optional[str]) -> Sequence[Sequence[int]]:
         if self.on:
-            return super().output_dependencies(effort_in, causality)
+            return cast(Any, super()).output_dependencies(effort_in, causality)
         return ((),) * len(effort_in)
 
     def output(self, local: LocalVariables, port: int) -> sympy.Expr:
-        return super().output(local, port) if self.on else sympy.Integer(0)
+        return cast(Any, super()).output(local, port) if self.on else sympy.Integer(0)
 
     def drawing_label(self) -> tuple[str, str]:
         return self.kind, f"{self.name} {'on' if self.on else 'off'}"

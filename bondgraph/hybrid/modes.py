@@ -32,7 +32,7 @@ from __future__ import annotations
 import dataclasses
 import itertools
 from dataclasses import dataclass
-from typing import Iterable, Mapping, Optional, Union
+from typing import Any, Iterable, Mapping, Optional, Union, cast
 
 import sympy
 
@@ -149,8 +149,8 @@ class SwitchedModel:
             if isinstance(name, str) and name.startswith(("hyb_E", "hyb_S")):
                 raise OutputError(f"output name {name!r}: names starting 'hyb_E' or 'hyb_S' are "
                                   "reserved for the switched model's internal outputs")
-        self.initial = Mode(on={n for n in self.switches if self.element(n).on},
-                            off={n for n in self.switches if not self.element(n).on})
+        self.initial = Mode(on=frozenset(n for n in self.switches if self.element(n).on),
+                            off=frozenset(n for n in self.switches if not self.element(n).on))
         # storage elements and the signals of their stored quantities (p of an I, q of a C)
         self.storage: tuple[tuple[str, tuple], ...] = tuple(
             (el.name, tuple(el.energy_signals())) for el in flat.elements if el.energy_signals())
@@ -174,7 +174,7 @@ class SwitchedModel:
 
     def element(self, name: str) -> SwitchElement:
         """The element named ``name`` (a switch, or any other element of the graph)."""
-        return self.flat.element(name)
+        return cast(SwitchElement, self.flat.element(name))
 
     # ------------------------------------------------------------ modes
     def mode_of(self, on: Iterable[str] = (), off: Iterable[str] = ()) -> Mode:
@@ -195,7 +195,8 @@ class SwitchedModel:
         if both:
             raise ModeError(f"switch {', '.join(sorted(both))} is given both on and off")
         rest = set(self.switches) - on - off
-        return Mode(on=on | (rest & self.initial.on), off=off | (rest & self.initial.off))
+        return Mode(on=frozenset(on | (rest & self.initial.on)),
+                    off=frozenset(off | (rest & self.initial.off)))
 
     def mode(self, on: Iterable[str] = (), off: Iterable[str] = ()) -> Model:
         """The ordinary :class:`~bondgraph.Model` of one mode (derived once, then cached).
@@ -220,14 +221,14 @@ class SwitchedModel:
         return hit
 
     def _derive(self, mode: Mode) -> Union[ModeModel, ModeError]:
-        elements = tuple(el.in_state(mode.is_on(el.name)) if el.name in self.switches else el
-                         for el in self.flat.elements)
+        elements = tuple(cast(SwitchElement, el).in_state(mode.is_on(el.name))
+                         if el.name in self.switches else el for el in self.flat.elements)
         flat = dataclasses.replace(self.flat, elements=elements)
         outputs = dict(self.user_outputs)
         outputs.update({f"{_E}{k}": s for k, s in enumerate(self.energy_signals)})
         outputs.update({f"{_S}{k}": s for k, s in enumerate(self.guard_signals)})
         try:
-            full = derive(flat, outputs=outputs)
+            full = derive(cast(Any, flat), outputs=outputs)   # derive reads a FlatGraph too
         except (CausalityError, AlgebraicLoopError) as err:
             return ModeError(f"mode ({mode}) of model {self.name!r} is not consistent: the "
                              f"switch states contradict each other: {err}")
@@ -245,8 +246,8 @@ class SwitchedModel:
                             "ask for modes one by one with mode(on=..., off=...)")
         out = []
         for states in itertools.product((False, True), repeat=len(self.switches)):
-            on = {n for n, s in zip(self.switches, states) if s}
-            out.append(Mode(on=on, off=set(self.switches) - on))
+            on = frozenset(n for n, s in zip(self.switches, states) if s)
+            out.append(Mode(on=on, off=frozenset(self.switches) - on))
         return tuple(out)
 
     @property
