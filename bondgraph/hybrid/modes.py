@@ -263,6 +263,14 @@ class SwitchedModel:
         return tuple(out)
 
     @property
+    def reachable_modes(self) -> tuple[Mode, ...]:
+        """The consistent modes a simulation from the built state can reach: those whose
+        user-set switches (no guard: :class:`Switch`) keep their built state."""
+        fixed = [n for n in self.switches if self.element(n).guard(True) is None]
+        return tuple(m for m in self.modes
+                     if all(m.is_on(n) == self.initial.is_on(n) for n in fixed))
+
+    @property
     def inconsistent_modes(self) -> dict[Mode, str]:
         """The modes with no consistent causality, each with the reason."""
         out = {}

@@ -166,3 +166,10 @@ def test_switched_zero_junction_by_hand():
     assert off.states == ()
     assert _same(off.output_exprs[0], E / R1) and off.output_exprs[1:] == (0, 0)
     assert sm.causality_changes == {"C": ("n off",)}
+
+
+def test_reachable_modes_keep_the_user_set_switches():
+    sm = two_switch()                     # S1, S2: plain switches, built off
+    assert [str(m) for m in sm.reachable_modes] == ["S1 off, S2 off"]
+    buck = SwitchedModel(library.buck())  # S (gate) and D (diode) may both flip
+    assert set(buck.reachable_modes) == set(buck.modes) and len(buck.modes) == 3

@@ -7,7 +7,7 @@ import pytest
 from scipy.optimize import brentq
 
 import bondgraph as bg
-from bondgraph.hybrid import (ChatteringError, ControlledSwitch, EventBudgetError, HybridError,
+from bondgraph.hybrid import (ChatteringError, ControlledSwitch, Diode, EventBudgetError, HybridError,
                               SwitchedModel, library, simulate)
 
 
@@ -183,3 +183,14 @@ def test_bg_simulate_runs_a_switched_model_with_events():
     assert res.outputs["w2"][-1] == pytest.approx(7 / 3 + 1 / 3, rel=1e-9)
     with pytest.raises(bg.BondGraphError, match="is switched"):
         bg.simulate(sm, {"J1": 1, "J2": 2, "t_lock": 1}, (0, 2), u=[1.0])
+
+
+def test_an_input_driving_a_derivative_storage_is_refused_naming_the_mode():
+    g = bg.BondGraph("rect_in")
+    g.add(bg.Se("Vs"), bg.One("i"), Diode("D", on=True), bg.Zero("v"), bg.R("R"), bg.C("C"))
+    for t, h in [("Vs", "i"), ("i", "D"), ("i", "v"), ("v", "R"), ("v", "C")]:
+        g.connect(t, h)
+    sm = SwitchedModel(g)
+    # diode on: C is driven by the input Vs directly, so i_C = C dVs/dt needs the input's derivative
+    with pytest.raises(HybridError, match=r"mode \(D on\).*input derivatives.*value="):
+        simulate(sm, (0, 1), values={"R": 1, "C": 1}, inputs={"Vs": lambda t: math.sin(t)})
