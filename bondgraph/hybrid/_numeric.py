@@ -115,6 +115,7 @@ class CompiledMode:
         # guards in this mode's variables: each switch's guard with its signals replaced
         sig_map = dict(zip(sm.guard_signals, s_exprs))
         guards = []
+        timed: dict[str, Callable] = {}
         for name in sm.switches:
             g = sm.element(name).guard(mm.mode.is_on(name))
             if g is None:
@@ -125,7 +126,11 @@ class CompiledMode:
                 raise HybridError(f"guard of switch {name!r} reads {left[0]}, which mode "
                                   f"({mm.mode}) does not define")
             guards.append((name, _lambdify(args, [g])))
+            if not g.free_symbols - {T_SYM}:     # a gate of time only: found by scanning
+                timed[name] = sympy.lambdify([T_SYM], g, modules="numpy")
         self.guards = tuple(guards)
+        #: the guards that depend on time only, as vectorized functions of t
+        self.time_guards: dict[str, Callable] = timed
 
     # ------------------------------------------------------------ evaluation
     def f(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:

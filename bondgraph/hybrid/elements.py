@@ -161,8 +161,10 @@ class ControlledSwitch(SwitchElement):
         Of time :data:`bondgraph.t`, parameters and signals
         (``bg.displacement("m")``); :func:`pwm` builds a PWM gate.
     period : number or expression, optional, keyword-only
-        The switching period of a periodic gate; the simulation keeps its
-        steps below ``period/50`` so that no pulse is stepped over.
+        The switching period of a periodic gate.  A gate of time only is
+        scanned ahead by the simulation on a grid of ``period/1000`` (of
+        ``(t1 - t0)/1e5`` without a period) and its zero crossings refined to
+        machine precision, so no pulse longer than the grid step is missed.
 
     Examples
     --------

@@ -49,6 +49,7 @@ from typing import Any, Callable, Mapping, Optional, Sequence
 import numpy as np
 import sympy
 from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
 
 from ..parameters import match_values, real_value
 from ..signals import Signal
@@ -148,8 +149,10 @@ def simulate(sm: SwitchedModel, t_span: Sequence[float], x0: Optional[Mapping[st
     t_eval : sequence of float, optional
         Sample times; by default the solver's steps (and every event).
     method, rtol, atol, max_step
-        Passed to :func:`scipy.integrate.solve_ivp`; ``max_step`` defaults
-        to ``period/50`` of the controlled switches that give a period.
+        Passed to :func:`scipy.integrate.solve_ivp`.  Gates of time only (a
+        PWM) are scanned ahead on a grid of ``period/1000`` (their switch's
+        ``period``), else ``(t1 - t0)/1e5``, and their zero crossings refined
+        to machine precision: no step limit is needed for them.
     guard_tol : float
         A guard is consistent while >= ``-guard_tol``.
     max_events : int
@@ -176,7 +179,8 @@ def simulate(sm: SwitchedModel, t_span: Sequence[float], x0: Optional[Mapping[st
         raise HybridError(f"t_span must be increasing; got {tuple(t_span)!r}")
     run = _Run(sm, values, inputs, guard_tol=guard_tol)
     if max_step is None:
-        max_step = run.default_max_step()
+        max_step = math.inf
+    resolution = run.scan_resolution(t0, t1)
     chatter_time = 1e-6 * (t1 - t0) if chatter_time is None else chatter_time
     q, integ = run.initial_state(x0)
     # the initial mode: every switch with a guard may be chosen freely
@@ -197,17 +201,15 @@ def simulate(sm: SwitchedModel, t_span: Sequence[float], x0: Optional[Mapping[st
         seg_eval = None
         if evals is not None:
             seg_eval = evals[(evals >= t) & (evals <= t1)]
-        sol = run.segment(cm, t, t1, x, seg_eval, method, rtol, atol, max_step)
-        rec.add(cm, sol.t, sol.y[:-1])
-        if sol.status == 0:
-            break
-        if sol.status != 1:
+        sol, names, te, xe = run.segment(cm, t, t1, x, seg_eval, method, rtol, atol, max_step,
+                                         resolution)
+        if len(sol.t):
+            rec.add(cm, sol.t, np.asarray(sol.y)[:-1])
+        if sol.status < 0:
             raise HybridError(f"model {sm.name!r}, mode ({mode}): the integrator failed at "
                               f"t = {sol.t[-1]:.6g}: {sol.message}")
-        fired = [k for k, te in enumerate(sol.t_events) if len(te)]
-        te = float(sol.t_events[fired[0]][0])
-        xe = np.asarray(sol.y_events[fired[0]][0], dtype=float)[:-1]
-        names = tuple(cm.guards[k][0] for k in fired)
+        if not names:
+            break
         if len(events) >= max_events:
             raise EventBudgetError(f"model {sm.name!r}: event budget of {max_events} used up at "
                                    f"t = {te:.6g}", result=rec.result(events))
@@ -220,7 +222,8 @@ def simulate(sm: SwitchedModel, t_span: Sequence[float], x0: Optional[Mapping[st
                     "driven to zero from both sides); add the dynamics that decide it (a "
                     "resistance, an inductance) or a hysteresis in its gate", time=te, element=name)
         u = run.u(te)
-        rec.add_point(cm, te, xe)
+        if not rec.t or rec.t[-1] != te:
+            rec.add_point(cm, te, xe)
         q_old = cm.stored(te, xe, u)
         integ = integrated(sm, cm, te, xe, u)
         proposed = mode.flipped(*names)
@@ -310,10 +313,11 @@ class _Run:
                                                      self.input_syms)
         return cm
 
-    def default_max_step(self) -> float:
+    def scan_resolution(self, t0: float, t1: float) -> float:
+        """Grid step of the scan of time-only gates: period/1000, else (t1 - t0)/1e5."""
         periods = [getattr(self.sm.element(n), "period", None) for n in self.sm.switches]
-        steps = [float(p.xreplace(self.subs)) / 50 for p in periods if p is not None]
-        return min(steps) if steps else math.inf
+        steps = [float(p.xreplace(self.subs)) / 1000 for p in periods if p is not None]
+        return min(steps + [(t1 - t0) / 1e5])
 
     def initial_state(self, x0) -> tuple[np.ndarray, dict]:
         x0 = dict(x0 or {})
@@ -375,27 +379,57 @@ class _Run:
         _, mode, cm, x, q_new, loss = best
         return mode, cm, x, q_new, max(loss, 0.0) if loss > tiny else 0.0
 
-    def segment(self, cm: CompiledMode, t: float, t1: float, x, seg_eval, method, rtol, atol, max_step):
+    def segment(self, cm: CompiledMode, t: float, t1: float, x, seg_eval, method, rtol, atol,
+                max_step, resolution: float):
+        """Integrate mode ``cm`` from ``t`` to the first event or ``t1``.
+
+        Returns ``(sol, fired, te, xe)``: ``fired`` the switches whose guards fell
+        through zero at ``te`` with the state ``xe`` (empty when ``t1`` was reached).
+        State guards are ``solve_ivp`` events; guards of time only are found by
+        scanning them at ``resolution`` and refining with :func:`scipy.optimize.brentq`,
+        so that no pulse is stepped over and their instants are exact.
+        """
         u = self.u
         tol = self.guard_tol
 
         def f(tt, y):
             return np.append(cm.f(tt, y[:-1], u(tt)), 0.0)
 
-        events = []
+        events, names = [], []
         start = cm.guard_values(t, np.asarray(x, dtype=float), u(t))
+        t_stop, timed = t1, []
         for name, g in cm.guards:
             # a guard accepted slightly below zero (within guard_tol) fires at -guard_tol
             off = tol if start[name] < 0 else 0.0
+            if name in cm.time_guards:
+                hit = _first_crossing(cm.time_guards[name], off, t, t1, resolution)
+                if hit is not None and hit <= t_stop:
+                    timed = [n for n, h in timed if h == hit] if hit == t_stop else []
+                    timed = [(n, hit) for n in timed] + [(name, hit)]
+                    t_stop = hit
+                continue
 
             def ev(tt, y, g=g, off=off):
                 return float(np.asarray(g(tt, *y[:-1], *u(tt))).reshape(-1)[0]) + off
             ev.terminal = True      # type: ignore[attr-defined]
             ev.direction = -1       # type: ignore[attr-defined]
             events.append(ev)
+            names.append(name)
+        if seg_eval is not None:
+            seg_eval = seg_eval[seg_eval <= t_stop]
         y0 = np.append(np.asarray(x, dtype=float), 0.0)
-        return solve_ivp(f, (t, t1), y0, method=method, t_eval=seg_eval, events=events or None,
-                         rtol=rtol, atol=atol, max_step=max_step)
+        sol = solve_ivp(f, (t, t_stop), y0, method=method, t_eval=seg_eval, events=events or None,
+                        rtol=rtol, atol=atol, max_step=max_step,
+                        dense_output=seg_eval is not None and t_stop < t1)
+        if sol.status == 1:
+            fired = [k for k, te in enumerate(sol.t_events) if len(te)]
+            te = float(sol.t_events[fired[0]][0])
+            xe = np.asarray(sol.y_events[fired[0]][0], dtype=float)[:-1]
+            return sol, tuple(names[k] for k in fired), te, xe
+        if sol.status == 0 and t_stop < t1:
+            end = sol.sol(t_stop) if sol.sol is not None else sol.y[:, -1]
+            return sol, tuple(n for n, _ in timed), t_stop, np.asarray(end, dtype=float)[:-1]
+        return sol, (), None, None
 
     def event(self, t, names, before, after, q_old, q_new, loss) -> SwitchEvent:
         jumps = {}
@@ -404,6 +438,37 @@ class _Run:
             if abs(a - b) > 1e-9 * max(1.0, abs(a)):
                 jumps[lab] = (a, b)
         return SwitchEvent(float(t), tuple(names), before, after, float(loss), jumps)
+
+
+def _first_crossing(g: Callable, off: float, t: float, t1: float, h: float) -> Optional[float]:
+    """The first time in ``(t, t1]`` at which ``g + off`` falls from >= 0 below zero, or None.
+
+    A gate located just before its jump (a PWM edge found from the left) is
+    still negative at ``t``: the scan then waits until it is >= 0 (past the
+    jump) before it looks for the next fall.
+    """
+    a = t
+    armed = float(g(t)) + off >= 0
+    while a < t1:
+        b = min(t1, a + 2000 * h)
+        ts = np.linspace(a, b, 2001)
+        v = np.broadcast_to(np.asarray(g(ts), dtype=float), ts.shape) + off
+        ok = v >= 0
+        if not armed:
+            up = np.nonzero(ok)[0]
+            if not up.size:
+                a = b
+                continue
+            armed = True
+            ts, v, ok = ts[up[0]:], v[up[0]:], ok[up[0]:]
+        neg = np.nonzero(~ok[1:])[0]
+        if neg.size:
+            i = int(neg[0]) + 1
+            lo, hi = float(ts[i - 1]), float(ts[i])
+            return float(brentq(lambda s: float(g(s)) + off, lo, hi, xtol=4e-16 * max(1.0, abs(hi)),
+                                rtol=8.9e-16))
+        a = b
+    return None
 
 
 class _Recorder:
