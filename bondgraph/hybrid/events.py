@@ -395,17 +395,18 @@ class _Run:
         def f(tt, y):
             return np.append(cm.f(tt, y[:-1], u(tt)), 0.0)
 
-        events, names = [], []
+        events: list = []
+        names: list[str] = []
         start = cm.guard_values(t, np.asarray(x, dtype=float), u(t))
-        t_stop, timed = t1, []
+        t_stop = t1
+        timed: list[str] = []       # the time-only switches that fire at t_stop
         for name, g in cm.guards:
             # a guard accepted slightly below zero (within guard_tol) fires at -guard_tol
             off = tol if start[name] < 0 else 0.0
             if name in cm.time_guards:
                 hit = _first_crossing(cm.time_guards[name], off, t, t1, resolution)
                 if hit is not None and hit <= t_stop:
-                    timed = [n for n, h in timed if h == hit] if hit == t_stop else []
-                    timed = [(n, hit) for n in timed] + [(name, hit)]
+                    timed = (timed if hit == t_stop else []) + [name]
                     t_stop = hit
                 continue
 
@@ -428,7 +429,7 @@ class _Run:
             return sol, tuple(names[k] for k in fired), te, xe
         if sol.status == 0 and t_stop < t1:
             end = sol.sol(t_stop) if sol.sol is not None else sol.y[:, -1]
-            return sol, tuple(n for n, _ in timed), t_stop, np.asarray(end, dtype=float)[:-1]
+            return sol, tuple(timed), t_stop, np.asarray(end, dtype=float)[:-1]
         return sol, (), None, None
 
     def event(self, t, names, before, after, q_old, q_new, loss) -> SwitchEvent:
