@@ -72,7 +72,8 @@ class SwitchEvent:
         The switches whose guards fired (empty for the initial mode choice).
     before, after : Mode
     energy_loss : float
-        Stored energy lost in the re-initialisation (0 when no state jumps).
+        Stored energy lost in the re-initialisation (0 when no state jumps; negative
+        if a jump driven by a source added energy).
     jumps : dict
         Stored quantity name -> (before, after), for those that jumped.
     """
@@ -364,7 +365,7 @@ class _Run:
                 bad = [n for n in check if n in g and g[n] < -self.guard_tol]
                 tried.append((mode, bad))
                 if not bad:
-                    cands.append(((loss > tiny, k, loss), mode, cm, x, q_new, loss))
+                    cands.append(((abs(loss) > tiny, k, abs(loss)), mode, cm, x, q_new, loss))
         if not cands:
             where = f"at t = {t:.9g}"
             if trigger:
@@ -377,7 +378,7 @@ class _Run:
                                         for m, b in tried))
         best = min(cands, key=lambda c: c[0])
         _, mode, cm, x, q_new, loss = best
-        return mode, cm, x, q_new, max(loss, 0.0) if loss > tiny else 0.0
+        return mode, cm, x, q_new, loss if abs(loss) > tiny else 0.0
 
     def segment(self, cm: CompiledMode, t: float, t1: float, x, seg_eval, method, rtol, atol,
                 max_step, resolution: float):
