@@ -53,7 +53,7 @@ from typing import ClassVar, Optional, Sequence
 import sympy
 
 from ..errors import ParameterError
-from ..protocol import CausalPorts, Decision, Element, LocalVariables, prefix_signals, rename
+from ..elements.protocol import CausalPorts, Decision, Element, LocalVariables, prefix_signals, rename
 from ..signals import Signal, effort, flow
 from ..signals import t as T_SYM
 

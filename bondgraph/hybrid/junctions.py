@@ -27,7 +27,7 @@ import sympy
 
 from ..elements import One, Zero
 from ..errors import ParameterError
-from ..protocol import CausalPorts, Decision, Element, LocalVariables, prefix_signals, rename
+from ..elements.protocol import CausalPorts, Decision, Element, LocalVariables, prefix_signals, rename
 from .elements import SwitchElement
 
 __all__ = ["SwitchedZero", "SwitchedOne"]

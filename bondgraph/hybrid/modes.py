@@ -36,7 +36,7 @@ from typing import Any, Iterable, Mapping, Optional, Union, cast
 
 import sympy
 
-from ..equations import derive
+from ..model import derive
 from ..errors import AlgebraicLoopError, CausalityError, OutputError
 from ..flatten import FlatGraph, flatten
 from ..graph import BondGraph
