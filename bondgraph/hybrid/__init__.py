@@ -25,24 +25,15 @@ Examples
 from .elements import ControlledSwitch, Diode, Switch, SwitchElement, pwm
 from .junctions import SwitchedOne, SwitchedZero
 from .errors import ChatteringError, EventBudgetError, HybridError, ModeError
-from .modes import Mode, ModeModel, SwitchedModel, derive_switched
+from .modes import Mode, ModeModel, ModeSet
+from .switched import SwitchedModel, derive_switched
+from .events import SwitchEvent, SwitchedResult, simulate
+from .averaging import average
 
 __all__ = [
     "SwitchElement", "Switch", "Diode", "ControlledSwitch", "pwm", "SwitchedZero", "SwitchedOne",
-    "Mode", "ModeModel", "SwitchedModel", "derive_switched",
+    "Mode", "ModeModel", "ModeSet", "SwitchedModel", "derive_switched",
     "simulate", "SwitchedResult", "SwitchEvent", "average",
     "HybridError", "ModeError", "ChatteringError", "EventBudgetError",
 ]
 
-
-def __getattr__(name: str):
-    """The simulation (scipy) and averaging parts load on first use."""
-    if name in ("simulate", "SwitchedResult", "SwitchEvent"):
-        from . import events as _sim
-
-        return getattr(_sim, name)
-    if name == "average":
-        from .averaging import average
-
-        return average
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -31,7 +31,7 @@ import sympy
 from ..signals import Signal
 from ..signals import t as T_SYM
 from .errors import HybridError
-from .modes import Mode, ModeModel, SwitchedModel
+from .modes import Mode, ModeModel, ModeSet
 
 __all__ = ["CompiledMode", "EnergyMetric"]
 
@@ -43,7 +43,7 @@ def _lambdify(args: Sequence, exprs: Sequence[sympy.Expr]) -> Callable:
 class EnergyMetric:
     """The total stored energy and its Hessian as numeric functions of ``q_all``."""
 
-    def __init__(self, sm: SwitchedModel, subs: dict) -> None:
+    def __init__(self, sm: ModeSet, subs: dict) -> None:
         qs, H = sm.energy()
         H = H.xreplace(subs)
         self.n = len(qs)
@@ -74,7 +74,7 @@ class CompiledMode:
         For each switch with a guard in this mode, ``g(t, x, u)`` (>= 0 while consistent).
     """
 
-    def __init__(self, sm: SwitchedModel, mm: ModeModel, subs: dict,
+    def __init__(self, sm: ModeSet, mm: ModeModel, subs: dict,
                  inputs: Sequence[sympy.Symbol]) -> None:
         full = mm.full
         self.mode: Mode = mm.mode
@@ -150,7 +150,7 @@ class CompiledMode:
 
     # ------------------------------------------------------------ entering the mode
     def enter(self, t: float, q_old: np.ndarray, integ: dict, u: np.ndarray,
-              metric: EnergyMetric, sm: SwitchedModel) -> tuple[np.ndarray, np.ndarray, float]:
+              metric: EnergyMetric, sm: ModeSet) -> tuple[np.ndarray, np.ndarray, float]:
         """The mode's state from the stored quantities ``q_old`` and integrator values:
         ``(x, q_new, energy_loss)``."""
         n = self.n_storage
@@ -184,7 +184,7 @@ class CompiledMode:
         return x, q_new, loss
 
 
-def integrated(sm: SwitchedModel, cm: CompiledMode, t: float, x: np.ndarray,
+def integrated(sm: ModeSet, cm: CompiledMode, t: float, x: np.ndarray,
                u: np.ndarray) -> dict:
     """The value of every tracked signal (by its string) in mode ``cm`` at ``(t, x)``."""
     vals = cm.signals(t, x, u)

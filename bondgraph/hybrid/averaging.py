@@ -39,14 +39,14 @@ import sympy
 from ..errors import OutputError
 from ..model import Model
 from .errors import ModeError
-from .modes import Mode, SwitchedModel
+from .modes import Mode, ModeSet
 
 __all__ = ["average"]
 
 ModeLike = Union[Mode, Mapping]
 
 
-def average(sm: SwitchedModel, duty: Union[str, sympy.Symbol], active: ModeLike, passive: ModeLike,
+def average(sm: ModeSet, duty: Union[str, sympy.Symbol], active: ModeLike, passive: ModeLike,
             *, name: Optional[str] = None) -> Model:
     """The state-space average of two modes of ``sm`` weighted by the duty cycle.
 
@@ -97,7 +97,7 @@ def average(sm: SwitchedModel, duty: Union[str, sympy.Symbol], active: ModeLike,
                                output_exprs=outs, input_derivatives=derivs, descriptor=None)
 
 
-def _mode(sm: SwitchedModel, m: ModeLike) -> Mode:
+def _mode(sm: ModeSet, m: ModeLike) -> Mode:
     if isinstance(m, Mode):
         return sm.mode_of(m.on, m.off)
     if isinstance(m, Mapping) and set(m) <= {"on", "off"}:

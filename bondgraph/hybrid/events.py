@@ -56,7 +56,7 @@ from ..signals import Signal
 from ..signals import t as T_SYM
 from ._numeric import CompiledMode, EnergyMetric, integrated
 from .errors import ChatteringError, EventBudgetError, HybridError, ModeError
-from .modes import Mode, SwitchedModel
+from .modes import Mode, ModeSet
 
 __all__ = ["simulate", "SwitchedResult", "SwitchEvent"]
 
@@ -123,7 +123,7 @@ class SwitchedResult:
         return np.array([e.time for e in self.events if element in e.elements])
 
 
-def simulate(sm: SwitchedModel, t_span: Sequence[float], x0: Optional[Mapping[str, float]] = None, *,
+def simulate(sm: ModeSet, t_span: Sequence[float], x0: Optional[Mapping[str, float]] = None, *,
              values: Optional[Mapping] = None, inputs: Optional[Mapping[str, Any]] = None,
              t_eval: Optional[Sequence[float]] = None, method: str = "RK45",
              rtol: float = 1e-9, atol: float = 1e-12, max_step: Optional[float] = None,
@@ -241,7 +241,7 @@ def simulate(sm: SwitchedModel, t_span: Sequence[float], x0: Optional[Mapping[st
 class _Run:
     """The numbers of one simulation: parameters, inputs, compiled modes."""
 
-    def __init__(self, sm: SwitchedModel, values, inputs, *, guard_tol: float) -> None:
+    def __init__(self, sm: ModeSet, values, inputs, *, guard_tol: float) -> None:
         self.sm = sm
         self.guard_tol = guard_tol
         modes = sm.modes

@@ -45,7 +45,7 @@ from ..signals import Signal
 from .elements import SwitchElement, gate_signals
 from .errors import ModeError
 
-__all__ = ["Mode", "SwitchedModel", "derive_switched"]
+__all__ = ["Mode", "ModeModel", "ModeSet"]
 
 #: prefixes of the outputs the hybrid machinery adds to every mode
 _E, _S = "hyb_E", "hyb_S"
@@ -105,8 +105,9 @@ class ModeModel:
     user: Model
 
 
-class SwitchedModel:
-    """A switched bond graph: its switches, its modes and their equations.
+class ModeSet:
+    """A switched bond graph's switches, modes and their equations (the record under
+    :class:`~bondgraph.hybrid.SwitchedModel`, which adds simulation and averaging).
 
     Parameters
     ----------
@@ -128,7 +129,7 @@ class SwitchedModel:
     >>> g = bg.BondGraph("short")
     >>> g.add(bg.Sf("I"), bg.Zero("v"), bg.C("C"), Switch("S"))
     >>> for a, b in [("I", "v"), ("v", "C"), ("v", "S")]: _ = g.connect(a, b)
-    >>> sm = SwitchedModel(g)
+    >>> sm = ModeSet(g)
     >>> sm.switches, str(sm.initial)
     (('S',), 'S off')
     >>> sm.mode(on={"S"}).state_names, sm.mode(off={"S"}).rhs
@@ -307,50 +308,7 @@ class SwitchedModel:
         return qs, total
 
     def __repr__(self) -> str:
-        return f"SwitchedModel({self.name!r}, switches={self.switches})"
-
-    # the numeric and averaging parts live in their own modules
-    def simulate(self, t_span, x0=None, *, values=None, inputs=None, **options):
-        """Simulate with events; see :func:`bondgraph.hybrid.simulate`."""
-        from .events import simulate
-
-        return simulate(self, t_span, x0, values=values, inputs=inputs, **options)
-
-    def simulate_with_events(self, values, t_span, x0=None, *, u=None, t_eval=None,
-                             method: str = "RK45", rtol: float = 1e-9, atol=1e-12, max_step=None):
-        """What ``bondgraph.simulate(switched_model, values, t_span, x0, u=...)`` calls.
-
-        ``u``: None or a mapping of input name to a number or a function of time.
-        """
-        from .events import simulate
-
-        if u is not None and not isinstance(u, Mapping):
-            raise ModeError(f"model {self.name!r} is switched: give its inputs as u={{name: "
-                            f"number or function of t}}; got {type(u).__name__}")
-        return simulate(self, t_span, x0, values=values, inputs=u, t_eval=t_eval, method=method,
-                        rtol=rtol, atol=atol, max_step=max_step)
-
-    def average(self, duty, active, passive, *, name: Optional[str] = None) -> Model:
-        """State-space average of two modes; see :func:`bondgraph.hybrid.average`."""
-        from .averaging import average
-
-        return average(self, duty, active, passive, name=name)
-
-
-def derive_switched(graph: Union[BondGraph, FlatGraph], outputs: Optional[Mapping] = None) -> SwitchedModel:
-    """The :class:`SwitchedModel` of a graph with switches (modes derived when asked for).
-
-    Examples
-    --------
-    >>> import bondgraph as bg
-    >>> from bondgraph.hybrid import Switch, derive_switched
-    >>> g = bg.BondGraph("g")
-    >>> g.add(bg.Se("E"), bg.One("i"), bg.R("R"), Switch("S", on=True))
-    >>> for a, b in [("E", "i"), ("i", "R"), ("i", "S")]: _ = g.connect(a, b)
-    >>> derive_switched(g, outputs={"i": bg.flow("R")}).mode().output_exprs
-    (E/R,)
-    """
-    return SwitchedModel(graph, outputs)
+        return f"{type(self).__name__}({self.name!r}, switches={self.switches})"
 
 
 def _names(names: Iterable[str], what: str) -> frozenset:
