@@ -148,7 +148,8 @@ def simulate(sm: ModeSet, t_span: Sequence[float], x0: Optional[Mapping[str, flo
     inputs : mapping of str to number or callable ``u(t)``, optional
         The model's inputs (sources without a value).
     t_eval : sequence of float, optional
-        Sample times; by default the solver's steps (and every event).
+        Sample times; by default the solver's steps.  The start and every
+        event (before and after the change) are always sampled too.
     method, rtol, atol, max_step
         Passed to :func:`scipy.integrate.solve_ivp`.  Gates of time only (a
         PWM) are scanned ahead on a grid of ``period/1000`` (their switch's
@@ -188,6 +189,7 @@ def simulate(sm: ModeSet, t_span: Sequence[float], x0: Optional[Mapping[str, flo
     free = tuple(n for n in sm.switches if sm.element(n).guard(True) is not None)
     mode, cm, x, q_new, loss = run.select(t0, sm.initial, free, free, q, integ, trigger=None)
     rec = _Recorder(run)
+    rec.add_point(cm, t0, x)
     events: list[SwitchEvent] = []
     if loss or mode != sm.initial:
         events.append(run.event(t0, (), sm.initial, mode, q, q_new, loss))
@@ -490,6 +492,8 @@ class _Recorder:
     def add(self, cm: CompiledMode, ts, ys) -> None:
         k = self._index(cm)
         for j, tt in enumerate(ts):
+            if j == 0 and self.t and self.t[-1] == tt and self.idx[-1] == k:
+                continue          # the segment's start, recorded already
             self.add_point(cm, float(tt), ys[:, j], k)
 
     def add_point(self, cm: CompiledMode, t: float, x, k: Optional[int] = None) -> None:

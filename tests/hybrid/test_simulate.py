@@ -194,3 +194,11 @@ def test_an_input_driving_a_derivative_storage_is_refused_naming_the_mode():
     # diode on: C is driven by the input Vs directly, so i_C = C dVs/dt needs the input's derivative
     with pytest.raises(HybridError, match=r"mode \(D on\).*input derivatives.*value="):
         simulate(sm, (0, 1), values={"R": 1, "C": 1}, inputs={"Vs": lambda t: math.sin(t)})
+
+
+def test_time_budget_bounds_a_run():
+    sm = SwitchedModel(library.buck(), outputs={"v": bg.effort("C")})
+    vals = {"Vin": 10, "duty": 0.5, "T": 1e-5, "L": 1e-4, "C": 1e-4, "R": 5}
+    with pytest.raises(EventBudgetError, match="time budget of 1e-09 s used up") as info:
+        simulate(sm, (0, 1.0), values=vals, time_budget=1e-9)
+    assert info.value.result.t[-1] < 1.0
