@@ -1,8 +1,7 @@
 """Switch elements: ideal switches, diodes and controlled switches.
 
 A switch is a one-port with two states.  The convention is the electrical one,
-that of an ideal switch in Mosterman and Biswas' hybrid bond graphs and of
-MTT's ``ISW``:
+that of an ideal switch in Mosterman and Biswas' hybrid bond graphs:
 
 * **on** (closed, conducting): zero *effort* across it, any flow -- in that
   mode it is the source ``Se:0``;
