@@ -521,7 +521,11 @@ def simulate(model: Union[StateEquations, NumericDynamics], values: ParameterVal
     Parameters
     ----------
     model : StateEquations or NumericDynamics
-        Pass a :class:`NumericDynamics` to reuse its compiled functions.
+        Pass a :class:`NumericDynamics` to reuse its compiled functions.  A
+        switched model (:class:`bondgraph.hybrid.SwitchedModel`) is simulated
+        with events by :func:`bondgraph.hybrid.simulate` (``u`` then maps
+        input names to numbers or functions of time) and returns its
+        :class:`~bondgraph.hybrid.SwitchedResult`.
     values : mapping of Symbol or str to float
         Parameter values: exactly the model's parameters.
     t_span : (float, float)
@@ -583,6 +587,10 @@ def simulate(model: Union[StateEquations, NumericDynamics], values: ParameterVal
     """
     from scipy.integrate import solve_ivp
 
+    switched = getattr(model, "simulate_with_events", None)
+    if switched is not None:       # a switched model (bondgraph.hybrid) runs its own event loop
+        return switched(values, t_span, x0, u=u, t_eval=t_eval, method=method, rtol=rtol,
+                        atol=atol, max_step=max_step)
     dyn = model if isinstance(model, NumericDynamics) else NumericDynamics(model)
     p = dyn.parameter_vector(values)
     m = len(dyn.input_names)

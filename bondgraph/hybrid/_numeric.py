@@ -1,0 +1,199 @@
+"""Numeric form of one mode: right-hand side, outputs, guards, and the state re-initialisation.
+
+The state of a switched simulation is kept mode-independently as the stored
+quantities of every storage element (``q_all``: the momentum of each I, the
+displacement of each C, in the order of :attr:`SwitchedModel.energy_signals`)
+plus the integrator states of displacement/momentum signals, by signal.
+
+Entering a mode, its states ``x`` are found from ``q_all``.  When the mode
+puts storage in derivative causality, its stored quantities are an affine
+function of its states, ``q = M x + c(t, u)``, and a jump may be needed.  The
+new state is the projection of ``q_old`` on that set in the metric of the
+energy Hessian ``Q`` (exact for linear storage, the Hessian at ``q_old``
+otherwise)::
+
+    x = (M^T Q M)^-1 M^T Q (q_old - c)
+
+which is what an impulse along the constraint forces gives: the impulse
+``q_new - q_old`` is orthogonal (in ``Q``) to every motion the new mode
+allows.  Two inertias locked: the total momentum is conserved and the common
+velocity is ``(J1 w1 + J2 w2)/(J1 + J2)``; a capacitor shorted: its charge
+goes to zero.  The energy lost, ``H(q_old) - H(q_new)``, is reported.
+"""
+
+from __future__ import annotations
+
+from typing import Callable, Optional, Sequence
+
+import numpy as np
+import sympy
+
+from ..signals import Signal
+from ..signals import t as T_SYM
+from .errors import HybridError
+from .modes import Mode, ModeModel, ModeSet
+
+__all__ = ["CompiledMode", "EnergyMetric"]
+
+
+def _lambdify(args: Sequence, exprs: Sequence[sympy.Expr]) -> Callable:
+    return sympy.lambdify(list(args), list(exprs), modules="numpy", cse=True)
+
+
+class EnergyMetric:
+    """The total stored energy and its Hessian as numeric functions of ``q_all``."""
+
+    def __init__(self, sm: ModeSet, subs: dict) -> None:
+        qs, H = sm.energy()
+        H = H.xreplace(subs)
+        self.n = len(qs)
+        self._H = _lambdify(qs, [H])
+        self._Q = _lambdify(qs, list(sympy.hessian(H, qs))) if qs else None
+
+    def energy(self, q: np.ndarray) -> float:
+        return float(self._H(*q)[0]) if self.n else 0.0
+
+    def hessian(self, q: np.ndarray) -> np.ndarray:
+        if self._Q is None:
+            return np.zeros((0, 0))
+        return np.asarray(self._Q(*q), dtype=np.float64).reshape(self.n, self.n)
+
+
+class CompiledMode:
+    """One mode with its numbers substituted, as numpy functions of ``(t, x, u)``.
+
+    Attributes
+    ----------
+    mode : Mode
+    states : tuple of str
+    storage_rows : tuple
+        For each storage state, the index in ``q_all`` it is (None for none).
+    integrators : tuple of (str, str)
+        Integrator states and the signal each integrates.
+    guards : tuple of (str, callable)
+        For each switch with a guard in this mode, ``g(t, x, u)`` (>= 0 while consistent).
+    """
+
+    def __init__(self, sm: ModeSet, mm: ModeModel, subs: dict,
+                 inputs: Sequence[sympy.Symbol]) -> None:
+        full = mm.full
+        self.mode: Mode = mm.mode
+        self.model = full
+        if full.input_derivatives:
+            names = ", ".join(str(s) for s in full.input_derivatives)
+            raise HybridError(
+                f"mode ({mm.mode}) of model {sm.name!r} needs the input derivatives {names} "
+                "(a storage element in derivative causality driven by an input): give that "
+                "source a value= expression of time bondgraph.t so it can be differentiated")
+        x = tuple(full.states)
+        self.states = tuple(s.name for s in x)
+        self.n_storage = full.storage_states
+        self.integrators = tuple(full.integrators)
+        args = (T_SYM, *x, *inputs)
+        outs = {name: ex.xreplace(subs) for name, ex in zip(full.output_names, full.output_exprs)}
+        self.user_names = tuple(n for n in full.output_names if not n.startswith(("hyb_E", "hyb_S")))
+        self.rhs = _lambdify(args, [e.xreplace(subs) for e in full.rhs])
+        nq = len(sm.energy_signals)
+        q_exprs = [outs[f"hyb_E{k}"] for k in range(nq)]
+        s_exprs = [outs[f"hyb_S{k}"] for k in range(len(sm.guard_signals))]
+        self._outs = _lambdify(args, [outs[n] for n in self.user_names])
+        self._q = _lambdify(args, q_exprs)
+        self._s = _lambdify(args, s_exprs)
+        # which q_all entry each storage state is, and the affine map q = M x + c
+        xs = x[: self.n_storage]
+        rows = []
+        for sym in xs:
+            hit = [k for k, e in enumerate(q_exprs) if e == sym]
+            rows.append(hit[0] if hit else None)
+        self.storage_rows = tuple(rows)
+        self.dependent = tuple(full.augmented.derivative)
+        J = sympy.Matrix(q_exprs).jacobian(list(xs)) if xs and q_exprs else sympy.zeros(nq, len(xs))
+        self.affine = not (J.free_symbols & set(x))
+        zero = {s: 0 for s in x}
+        self._M = _lambdify((T_SYM, *inputs), list(J)) if self.affine else None
+        self._c = _lambdify((T_SYM, *inputs), [e.xreplace(zero) for e in q_exprs]) if self.affine else None
+        # guards in this mode's variables: each switch's guard with its signals replaced
+        sig_map = dict(zip(sm.guard_signals, s_exprs))
+        guards = []
+        timed: dict[str, Callable] = {}
+        for name in sm.switches:
+            g = sm.element(name).guard(mm.mode.is_on(name))
+            if g is None:
+                continue
+            g = g.xreplace(sig_map).xreplace(subs)
+            left = [s for s in g.free_symbols if isinstance(s, Signal)]
+            if left:
+                raise HybridError(f"guard of switch {name!r} reads {left[0]}, which mode "
+                                  f"({mm.mode}) does not define")
+            guards.append((name, _lambdify(args, [g])))
+            if not g.free_symbols - {T_SYM}:     # a gate of time only: found by scanning
+                timed[name] = sympy.lambdify([T_SYM], g, modules="numpy")
+        self.guards = tuple(guards)
+        #: the guards that depend on time only, as vectorized functions of t
+        self.time_guards: dict[str, Callable] = timed
+
+    # ------------------------------------------------------------ evaluation
+    def f(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        return np.asarray(self.rhs(t, *x, *u), dtype=float).reshape(-1)
+
+    def outputs(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        return np.asarray(self._outs(t, *x, *u), dtype=float).reshape(-1)
+
+    def stored(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        return np.asarray(self._q(t, *x, *u), dtype=float).reshape(-1)
+
+    def signals(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
+        return np.asarray(self._s(t, *x, *u), dtype=float).reshape(-1)
+
+    def guard_values(self, t: float, x: np.ndarray, u: np.ndarray) -> dict[str, float]:
+        return {name: float(np.asarray(g(t, *x, *u)).reshape(-1)[0]) for name, g in self.guards}
+
+    # ------------------------------------------------------------ entering the mode
+    def enter(self, t: float, q_old: np.ndarray, integ: dict, u: np.ndarray,
+              metric: EnergyMetric, sm: ModeSet) -> tuple[np.ndarray, np.ndarray, float]:
+        """The mode's state from the stored quantities ``q_old`` and integrator values:
+        ``(x, q_new, energy_loss)``."""
+        n = self.n_storage
+        x = np.zeros(len(self.states))
+        for j, (name, signal) in enumerate(self.integrators):
+            if signal not in integ:
+                raise HybridError(f"mode ({self.mode}) of model {sm.name!r}: no value for the "
+                                  f"integrator {name!r} of {signal}")
+            x[n + j] = integ[signal]
+        if not self.dependent:
+            for j, row in enumerate(self.storage_rows):
+                x[j] = q_old[row]
+            return x, q_old.copy(), 0.0
+        if not self.affine:
+            raise HybridError(
+                f"mode ({self.mode}) of model {sm.name!r} puts {', '.join(self.dependent)} in "
+                "derivative causality with stored quantities that are not affine in the "
+                "mode's states; the state re-initialisation needs linear storage laws there")
+        assert self._M is not None and self._c is not None     # affine, checked above
+        M = np.asarray(self._M(t, *u), dtype=np.float64).reshape(len(q_old), n)
+        c = np.asarray(self._c(t, *u), dtype=np.float64).reshape(-1)
+        if n:
+            Q = metric.hessian(q_old)
+            A = M.T @ Q @ M
+            xs = np.linalg.solve(A, M.T @ Q @ (q_old - c))
+            x[:n] = xs
+            q_new = M @ xs + c
+        else:
+            q_new = c
+        loss = metric.energy(q_old) - metric.energy(q_new)
+        return x, q_new, loss
+
+
+def integrated(sm: ModeSet, cm: CompiledMode, t: float, x: np.ndarray,
+               u: np.ndarray) -> dict:
+    """The value of every tracked signal (by its string) in mode ``cm`` at ``(t, x)``."""
+    vals = cm.signals(t, x, u)
+    return {str(s): float(v) for s, v in zip(sm.guard_signals, vals)}
+
+
+def pick(candidates: list) -> Optional[tuple]:
+    """The chosen candidate: consistent guards, then no energy lost, then fewest flips."""
+    ok = [c for c in candidates if c[0]]
+    if not ok:
+        return None
+    return min(ok, key=lambda c: (c[1], c[2]))

@@ -1,0 +1,106 @@
+"""State-space averaging of a PWM-switched model over one switching period.
+
+A converter switching periodically between an *active* mode (for the fraction
+``d`` of each period) and a *passive* mode (for ``1 - d``), with the same
+states in both (continuous conduction), has the averaged model
+
+    x' = d f_active(x, u) + (1 - d) f_passive(x, u),
+    y  = d g_active(x, u) + (1 - d) g_passive(x, u),
+
+valid when the period is short against the model's time constants
+(Middlebrook and Cuk's state-space averaging).  It is returned as an ordinary
+:class:`~bondgraph.Model` with the duty cycle ``d`` as one more input, so
+``equilibrium``, ``linearize`` and ``transfer_function`` give the
+duty-to-output transfer functions of buck, boost and buck-boost converters.
+
+Examples
+--------
+A buck converter: the averaged duty-to-output transfer function is
+``Vin/(L C s^2 + (L/R) s + 1)``.
+
+>>> import bondgraph as bg, sympy
+>>> from bondgraph.hybrid import Mode, SwitchedModel
+>>> from bondgraph.hybrid.library import buck
+>>> sm = SwitchedModel(buck(), outputs={"v": bg.effort("C")})
+>>> avg = sm.average("d", active=Mode(on={"S"}, off={"D"}), passive=Mode(on={"D"}, off={"S"}))
+>>> avg.input_names, avg.rhs
+(('d',), (Vin*d - q_C/C, p_L/L - q_C/(C*R)))
+>>> sympy.factor(avg.transfer_function("d", "v").expr)
+R*Vin/(C*L*R*s**2 + L*s + R)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Mapping, Optional, Union
+
+import sympy
+
+from ..errors import OutputError
+from ..model import Model
+from .errors import ModeError
+from .modes import Mode, ModeSet
+
+__all__ = ["average"]
+
+ModeLike = Union[Mode, Mapping]
+
+
+def average(sm: ModeSet, duty: Union[str, sympy.Symbol], active: ModeLike, passive: ModeLike,
+            *, name: Optional[str] = None) -> Model:
+    """The state-space average of two modes of ``sm`` weighted by the duty cycle.
+
+    Parameters
+    ----------
+    sm : SwitchedModel
+    duty : str or sympy.Symbol
+        The duty-cycle input (``"d"``): the fraction of the period in ``active``.
+    active, passive : Mode or mapping with keys ``'on'`` and ``'off'``
+        The two modes; switches not named keep their built state.
+    name : str, optional
+        The averaged model's name (default ``'<name>_avg'``).
+
+    Returns
+    -------
+    Model
+        Inputs: those of the modes, then ``duty``.  Its ``augmented`` graph is
+        the active mode's.
+
+    Raises
+    ------
+    ModeError
+        The two modes do not have the same states (discontinuous conduction:
+        a storage element changes causality), or the duty name clashes.
+    """
+    a, p = (_mode(sm, m) for m in (active, passive))
+    ma, mp = sm.derived(a).user, sm.derived(p).user
+    if ma.states != mp.states:
+        raise ModeError(
+            f"cannot average modes ({a}) and ({p}) of model {sm.name!r}: their states differ "
+            f"({', '.join(ma.state_names) or 'none'} vs {', '.join(mp.state_names) or 'none'}); "
+            "the state-space average needs continuous conduction (no storage element in "
+            f"derivative causality in one mode only: {', '.join(sm.causality_changes) or '-'})")
+    d = sympy.Symbol(duty, real=True) if isinstance(duty, str) else duty
+    if not isinstance(d, sympy.Symbol) or not d.name.isidentifier():
+        raise ModeError(f"duty must be an identifier or a sympy Symbol; got {duty!r}")
+    taken = {s.name for s in ma.states + ma.inputs + mp.inputs} | {s.name for s in ma.parameters}
+    if d.name in taken:
+        raise ModeError(f"duty name {d.name!r} is already a state, input or parameter of "
+                        f"model {sm.name!r}; choose another")
+    if ma.output_names != mp.output_names:   # pragma: no cover - same SwitchedModel outputs
+        raise OutputError("the two modes have different outputs")
+    inputs = tuple(dict.fromkeys(ma.inputs + mp.inputs)) + (d,)
+    rhs = tuple(sympy.expand(d * fa + (1 - d) * fp) for fa, fp in zip(ma.rhs, mp.rhs))
+    outs = tuple(sympy.expand(d * ya + (1 - d) * yp) for ya, yp in zip(ma.output_exprs, mp.output_exprs))
+    derivs = tuple(dict.fromkeys(ma.input_derivatives + mp.input_derivatives))
+    return dataclasses.replace(ma, name=name or f"{sm.name}_avg", inputs=inputs, rhs=rhs,
+                               output_exprs=outs, input_derivatives=derivs, descriptor=None)
+
+
+def _mode(sm: ModeSet, m: ModeLike) -> Mode:
+    if isinstance(m, Mode):
+        return sm.mode_of(m.on, m.off)
+    if isinstance(m, Mapping) and set(m) <= {"on", "off"}:
+        return sm.mode_of(m.get("on", ()), m.get("off", ()))
+    raise ModeError(f"a mode must be a bondgraph.hybrid.Mode or a mapping with keys 'on' and "
+                    f"'off'; got {m!r}")
