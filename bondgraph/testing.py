@@ -8,7 +8,7 @@ gets the guarantees the built-in elements have by calling
 >>> from bondgraph.testing import check_element
 >>> report = check_element(lambda name: bg.R(name))
 >>> print(report)
-R:x conforms: 7 checks; causal patterns derived: effort-in on port 1, flow-in on port 1
+R:x conforms: 7 checks; causal patterns derived: effort-in on port 1; flow-in on port 1
 >>> report.causalities
 (((True,), 'arbitrary'), ((False,), 'arbitrary'))
 
