@@ -17,7 +17,7 @@ before it (checked by ``tests/test_layering.py``)::
 
 then the consumers of a :class:`Model`: :mod:`~bondgraph.export`,
 :mod:`~bondgraph.modelfile`, :mod:`~bondgraph.codegen`, :mod:`~bondgraph.fmu`,
-:mod:`~bondgraph.drawing`, :mod:`~bondgraph.plots`,
+:mod:`~bondgraph.drawing`, :mod:`~bondgraph.drawing.plots`,
 :mod:`~bondgraph.identification`, :mod:`~bondgraph.study`,
 :mod:`~bondgraph.beam`, :mod:`~bondgraph.cli`.  Beside them:
 :mod:`~bondgraph.errors`, :mod:`~bondgraph.signals`,

@@ -42,6 +42,7 @@ MOVED = {
     "bondgraph.loops": "bondgraph.equations.loops",
     "bondgraph.integrators": "bondgraph.equations.integrators",
     "bondgraph.control": "bondgraph.numeric.control",
+    "bondgraph.plots": "bondgraph.drawing.plots",
 }
 
 

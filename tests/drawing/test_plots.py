@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
-from bondgraph.plots import PlotError, bode, frf_overlay, impulse, pole_zero, step
+from bondgraph.drawing.plots import PlotError, bode, frf_overlay, impulse, pole_zero, step
 
 FIRST = control.tf([1], [1, 1])
 DB_3 = 20 * np.log10(1 / np.sqrt(2))   # -3.0103 dB

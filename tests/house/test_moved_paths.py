@@ -48,6 +48,8 @@ OLD_PATHS = {
     "bondgraph.integrators": ("bondgraph.equations.integrators", ["state_combination"]),
     "bondgraph.control": ("bondgraph.numeric.control", ["pd_place", "pid_place", "specs_to_poles",
                                                         "minimal_realization"]),
+    "bondgraph.plots": ("bondgraph.drawing.plots", ["bode", "pole_zero", "step", "impulse",
+                                                    "frf_overlay", "PlotError"]),
 }
 
 

@@ -13,7 +13,7 @@ A *system* is a python-control LTI system (``TransferFunction``,
 Examples
 --------
 >>> import control
->>> from bondgraph.plots import bode
+>>> from bondgraph.drawing.plots import bode
 >>> fig = bode(control.tf([1], [1, 1]))
 >>> [ax.get_ylabel() for ax in fig.axes]
 ['Magnitude [dB]', 'Phase [deg]']
@@ -28,7 +28,7 @@ import numpy as np
 from matplotlib.figure import Figure
 from numpy.typing import ArrayLike, NDArray
 
-from .errors import BondGraphError
+from ..errors import BondGraphError
 
 __all__ = ["PlotError", "bode", "pole_zero", "step", "impulse", "frf_overlay"]
 
