@@ -33,18 +33,16 @@ R_gas*T*log(q*K_A)
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, ClassVar, Optional, Sequence, cast
+from typing import ClassVar, Optional, cast
 
 import sympy
 
 from ..elements import C, Se, Sf
 from ..errors import ParameterError
-from ..protocol import CausalPorts, Decision, Element, LocalVariables, rename
+from ..protocol import Element, rename
+from ._twoport import ConductanceTwoPort, positive_parameter as _positive
 from ..signals import Signal, e as E_VAR, q as Q_VAR, t as T_SYM
 from ..values import ParameterLike, nonzero, to_expr
-
-if TYPE_CHECKING:  # pragma: no cover
-    from ..graph import Bond
 
 __all__ = ["Ce", "Re", "Chemostat", "Flowstat", "GAS_CONSTANT", "FARADAY", "R_GAS", "TEMPERATURE"]
 
@@ -56,18 +54,6 @@ FARADAY = 96485.33212
 R_GAS = sympy.Symbol("R_gas", positive=True)
 #: the default symbol of the temperature in chemical laws
 TEMPERATURE = sympy.Symbol("T", positive=True)
-
-
-def _positive(value: ParameterLike, default: sympy.Expr, *, owner: str, what: str) -> sympy.Expr:
-    expr = nonzero(to_expr(value, owner=owner, what=what), owner=owner, what=what)
-    if expr is None:
-        return default
-    if any(isinstance(s, Signal) for s in expr.free_symbols) or expr.has(T_SYM):
-        raise ParameterError(f"{owner}: {what} {expr} must be a constant parameter (no signals, "
-                             "no time)")
-    if expr.is_number and not expr.is_positive:
-        raise ParameterError(f"{owner}: {what} must be positive, got {expr}")
-    return expr
 
 
 def _rt(el) -> sympy.Expr:
@@ -141,7 +127,7 @@ class Ce(C):
 
 
 @dataclass(frozen=True, eq=False)
-class Re(Element):
+class Re(ConductanceTwoPort):
     """A reaction: a resistive two-port, ``v = r (exp(A_f/RT) - exp(A_r/RT))``.
 
     The Marcelin--de Donder law (Gawthrop and Crampin 2014, Eq. 2.6;
@@ -171,8 +157,7 @@ class Re(Element):
     temperature: ParameterLike = field(default=None, kw_only=True)
     gas_constant: ParameterLike = field(default=None, kw_only=True)
     kind: ClassVar[str] = "Re"
-    bonds: ClassVar[tuple[int, Optional[int]]] = (2, 2)
-    drawing_role: ClassVar[str] = "backbone"
+    sides: ClassVar[str] = "the substrates' bond into a reaction, the products' bond out of it"
     conflict_hint: ClassVar[str] = (
         " A reaction takes the chemical potential (effort) on both of its bonds: "
         "connect each side to a species 0-junction, a 1-junction of species or a chemostat, "
@@ -205,40 +190,13 @@ class Re(Element):
         term = lambda a: sympy.exp(sympy.expand(sympy.expand_log(a / rt, force=False)))
         return self.r_value * (term(forward) - term(reverse))
 
-    # ------------------------------------------------------------ port rules
-    def _directions(self, first: "Bond", second: "Bond") -> Optional[str]:
-        into = first.head == self.name
-        if (second.head == self.name) != into:
-            return None
-        return (f"{self.label()} already has bond {first.number} pointing "
-                f"{'into' if into else 'out of'} it; its other bond must point the other way "
-                "(the substrates' bond into a reaction, the products' bond out of it)")
-
-    def bond_error(self, existing: Sequence["Bond"], bond: "Bond") -> Optional[str]:
-        err = super().bond_error(existing, bond)
-        return err if err is not None or not existing else self._directions(existing[0], bond)
-
-    def structure_error(self, bonds: Sequence["Bond"]) -> Optional[str]:
-        err = super().structure_error(bonds)
-        return err if err is not None else self._directions(bonds[0], bonds[1])
-
-    # ------------------------------------------------------------ causality
-    def forced_causality(self, ports: CausalPorts) -> Sequence[Decision]:
-        why = f"reaction {self.label()} takes the affinity"
-        return (Decision(0, True, why), Decision(1, True, why))
-
-    def output_dependencies(self, effort_in: Sequence[bool],
-                            causality: Optional[str]) -> Sequence[Sequence[int]]:
-        return ((0, 1), (0, 1))
+    def flows(self, effort_in: sympy.Expr, effort_out: sympy.Expr) -> tuple[sympy.Expr, sympy.Expr]:
+        v = self.rate(effort_in, effort_out)
+        return v, v
 
     def hamiltonian_error(self, dependent: bool) -> Optional[str]:
         return (f"{self.label()}: a reaction's law exp(A/RT) is nonlinear; the "
                 "port-Hamiltonian form needs linear R elements")
-
-    # ------------------------------------------------------------ derivation
-    def output(self, local: LocalVariables, port: int) -> sympy.Expr:
-        first = 0 if local.into(0) else 1        # the bond into the reaction
-        return self.rate(local.input(first), local.input(1 - first))
 
     def drawing_label(self) -> tuple[str, str]:
         return self.label(), "reaction"
