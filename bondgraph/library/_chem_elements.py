@@ -41,7 +41,7 @@ from ..elements import C, Se, Sf
 from ..errors import ParameterError
 from ..protocol import Element, rename
 from ._twoport import ConductanceTwoPort, positive_parameter as _positive
-from ..signals import Signal, e as E_VAR, q as Q_VAR, t as T_SYM
+from ..signals import Signal, e as E_VAR, q as Q_VAR
 from ..values import ParameterLike, nonzero, to_expr
 
 __all__ = ["Ce", "Re", "Chemostat", "Flowstat", "GAS_CONSTANT", "FARADAY", "R_GAS", "TEMPERATURE"]
@@ -122,6 +122,9 @@ class Ce(C):
         el._set_law()
         return el
 
+    def fixed_domains(self, into) -> dict[int, str]:
+        return {0: "chemical"}
+
     def drawing_label(self) -> tuple[str, str]:
         return self.label(), "species"
 
@@ -198,6 +201,9 @@ class Re(ConductanceTwoPort):
         return (f"{self.label()}: a reaction's law exp(A/RT) is nonlinear; the "
                 "port-Hamiltonian form needs linear R elements")
 
+    def fixed_domains(self, into) -> dict[int, str]:
+        return {0: "chemical", 1: "chemical"}
+
     def drawing_label(self) -> tuple[str, str]:
         return self.label(), "reaction"
 
@@ -234,6 +240,12 @@ class Chemostat(Se):
         object.__setattr__(self, "value", self._potential(self.name))
         super().__post_init__()
 
+    @property
+    def K_value(self) -> sympy.Expr:
+        """``K``, or the default symbol ``K_<name>``."""
+        return _positive(self.K, sympy.Symbol(f"K_{self.name}", positive=True),
+                         owner=f"Ce:{self.name} (chemostat)", what="K")
+
     def _potential(self, path: str) -> sympy.Expr:
         owner = f"Ce:{self.name} (chemostat)"
         k = _positive(self.K, sympy.Symbol(f"K_{path}", positive=True), owner=owner, what="K")
@@ -251,6 +263,9 @@ class Chemostat(Se):
 
     def label(self) -> str:
         return f"Ce:{self.name}"
+
+    def fixed_domains(self, into) -> dict[int, str]:
+        return {0: "chemical"}
 
     def drawing_label(self) -> tuple[str, str]:
         return self.label(), "chemostat"
@@ -272,6 +287,9 @@ class Flowstat(Sf):
 
     def label(self) -> str:
         return f"Ce:{self.name}"
+
+    def fixed_domains(self, into) -> dict[int, str]:
+        return {0: "chemical"}
 
     def drawing_label(self) -> tuple[str, str]:
         return self.label(), "flowstat"

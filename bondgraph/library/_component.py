@@ -57,7 +57,7 @@ class Component(BondGraph):
     """
 
     domain: ClassVar[str] = ""
-    port_names: ClassVar[tuple[str, ...]] = ()
+    port_names: tuple[str, ...] = ()
     port_domains: ClassVar[Mapping[str, str]] = {}
     law: ClassVar[str] = ""
     reference: ClassVar[str] = ""

@@ -95,6 +95,9 @@ class Radiation(ConductanceTwoPort):
         Q = self.coefficient() * (effort_in**4 - effort_out**4)
         return Q, Q
 
+    def fixed_domains(self, into) -> dict[int, str]:
+        return {0: "thermal", 1: "thermal"}
+
     def drawing_label(self) -> tuple[str, str]:
         return self.label(), "radiation"
 
@@ -130,6 +133,9 @@ class HeatConduction(ConductanceTwoPort):
     def flows(self, effort_in: sympy.Expr, effort_out: sympy.Expr) -> tuple[sympy.Expr, sympy.Expr]:
         Q = (effort_in - effort_out) / _param(self, self.resistance, "resistance")
         return Q / effort_in, Q / effort_out
+
+    def fixed_domains(self, into) -> dict[int, str]:
+        return {0: "thermal (entropy)", 1: "thermal (entropy)"}
 
     def drawing_label(self) -> tuple[str, str]:
         return self.label(), "conduction"
@@ -183,6 +189,9 @@ class EntropyCapacity(C):
 
     def label(self) -> str:
         return f"C:{self.name}"
+
+    def fixed_domains(self, into) -> dict[int, str]:
+        return {0: "thermal (entropy)"}
 
     def drawing_label(self) -> tuple[str, str]:
         return self.label(), "entropy"
@@ -267,6 +276,12 @@ class RS(DirectedTwoPort):
         e, f = ((local.input(res), out) if local.effort_in(res) else (out, local.input(res)))
         power = e * f * local.sign(res)                 # power into the resistive port
         return -local.sign(port) * power / local.input(port)   # entropy flow out of the thermal port
+
+    def domain_groups(self, count: int) -> tuple[tuple[int, ...], ...]:
+        return ((0,), (1,))      # any resistive domain -> thermal
+
+    def fixed_domains(self, into) -> dict[int, str]:
+        return {1 if into[0] else 0: "thermal (entropy)"}   # the bond out of it
 
     def drawing_label(self) -> tuple[str, str]:
         return self.label(), "heat"

@@ -13,7 +13,7 @@ Examples
 >>> from bondgraph.library.thermal import Radiation
 >>> T1, T2 = sympy.symbols("T1 T2", positive=True)
 >>> Radiation("rad", area=2, emissivity=1).flows(T1, T2)[0].expand()
-2*sigma_SB*T1**4 - 2*sigma_SB*T2**4
+2*T1**4*sigma_SB - 2*T2**4*sigma_SB
 """
 
 from __future__ import annotations

@@ -39,12 +39,12 @@ from __future__ import annotations
 
 import numbers
 from dataclasses import dataclass, field, replace
-from typing import Mapping, Optional, Union
+from typing import Optional, Union
 
 import sympy
 
 from ..elements import TF, One, Zero
-from ..errors import ModelStructureError, ParameterError
+from ..errors import ModelStructureError
 from ..flatten import FlatGraph, flatten
 from ..graph import BondGraph
 from ..protocol import Decision, Element, LocalVariables, check_name
@@ -320,6 +320,7 @@ def stoichiometric_matrix(graph: Union[BondGraph, FlatGraph]) -> Stoichiometry:
     >>> stoichiometric_matrix(net.graph()).matrix.T
     Matrix([[-1, 2]])
     """
+    from ..causality import assign_causality
     from ..equations import derive
 
     flat = graph if isinstance(graph, FlatGraph) else flatten(graph)
@@ -329,7 +330,7 @@ def stoichiometric_matrix(graph: Union[BondGraph, FlatGraph]) -> Stoichiometry:
                                   "matrix needs one")
     probed = replace(flat, elements=tuple(_RateProbe(el.name) if isinstance(el, Re) else el
                                           for el in flat.elements))
-    model = derive(probed)
+    model = derive(assign_causality(probed))
     species = tuple(el.name for el in flat.elements if isinstance(el, Ce))
     rows = {name: i for i, name in enumerate(model.state_names)}
     v = [sympy.Symbol(f"v_{r}", real=True) for r in reactions]
@@ -400,10 +401,10 @@ def equilibrium_constant(network: ReactionNetwork, reaction: str) -> sympy.Expr:
 
     def k_of(name: str) -> sympy.Expr:
         el = network._species[name]
-        k = getattr(el, "K_value", None)
-        if k is None:
-            k = sympy.Symbol(f"K_{name}", positive=True) if el.K is None else sympy.sympify(el.K)
-        return k
+        if not isinstance(el, (Ce, Chemostat)):
+            raise ReactionError(f"reaction {reaction}: species {name} is a flowstat, which has "
+                                "no thermodynamic constant K")
+        return el.K_value
 
     num = sympy.Mul(*[k_of(t.species) ** t.n for t in rx.substrates.terms])
     den = sympy.Mul(*[k_of(t.species) ** t.n for t in rx.products.terms])

@@ -40,7 +40,7 @@ _KMR = "Karnopp, Margolis and Rosenberg, System Dynamics, 5th ed., Ch. 4"
 
 class _TwoTerminal(Component):
     domain: ClassVar[str] = "electrical"
-    port_names: ClassVar[tuple[str, ...]] = ("p", "n")
+    port_names: tuple[str, ...] = ("p", "n")
     port_domains = {"p": "electrical", "n": "electrical"}
     reference: ClassVar[str] = _KMR
 

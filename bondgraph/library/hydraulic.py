@@ -65,7 +65,7 @@ def orifice_drop(Q: sympy.Expr, coefficient: sympy.Expr) -> sympy.Expr:
 
 class _Restriction(Component):
     domain: ClassVar[str] = "hydraulic"
-    port_names: ClassVar[tuple[str, ...]] = ("a", "b")
+    port_names: tuple[str, ...] = ("a", "b")
     port_domains = {"a": "hydraulic", "b": "hydraulic"}
 
     def _series(self, *elements) -> None:

@@ -43,7 +43,7 @@ _KMR = "Karnopp, Margolis and Rosenberg, System Dynamics, 5th ed., Ch. 3 and 4"
 
 
 class _Body(Component):
-    port_names: ClassVar[tuple[str, ...]] = ("p",)
+    port_names: tuple[str, ...] = ("p",)
     reference: ClassVar[str] = _KMR
     symbol: ClassVar[str] = "I"
     what: ClassVar[str] = "mass"
@@ -195,7 +195,7 @@ class RotaryDamper(Damper):
 
 
 class _Source(Component):
-    port_names: ClassVar[tuple[str, ...]] = ("p",)
+    port_names: tuple[str, ...] = ("p",)
     reference: ClassVar[str] = _KMR
     source: ClassVar[type] = Se
     inner: ClassVar[str] = "F"
@@ -280,7 +280,7 @@ class Fixed(Component):
 
 
 class _Transmission(Component):
-    port_names: ClassVar[tuple[str, ...]] = ("a", "b")
+    port_names: tuple[str, ...] = ("a", "b")
     reference: ClassVar[str] = _KMR + " (Sec. 4.2, transformers)"
     symbol: ClassVar[str] = "TF"
 

@@ -50,7 +50,7 @@ _CEL = "Cellier, Continuous System Modeling, 1991, Ch. 8"
 class _TwoTerminal(Component):
     """A resistance on a 1-junction between ports ``a`` (heat in) and ``b`` (heat out)."""
 
-    port_names: ClassVar[tuple[str, ...]] = ("a", "b")
+    port_names: tuple[str, ...] = ("a", "b")
     port_domains = {"a": "thermal", "b": "thermal"}
     domain: ClassVar[str] = "thermal"
 

@@ -7,7 +7,6 @@ series resistances) or an energy balance.
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 import pytest
