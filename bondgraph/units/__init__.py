@@ -272,7 +272,8 @@ class _DimLocal(LocalVariables):
 
 
 def _parameter_dims(values: Mapping[str, Any]) -> tuple[dict, dict]:
-    dims, shown = {}, {}
+    dims: dict[str, Optional[Dim]] = {}
+    shown: dict[str, str] = {}
     for name, v in values.items():
         if _carries_units(v):
             _, d, unit = si_value(v)
@@ -344,10 +345,11 @@ def check_units(graph: Union[BondGraph, FlatGraph], values: Mapping[str, Any], *
             if p in skip:
                 continue
             what = f"{el.label()}, {'flow' if ein[p] else 'effort'} on bond {inc[p] + 1}"
-            if port_dims[p] is None:
+            pair = port_dims[p]
+            if pair is None:
                 unchecked.append(f"{what}: bond of unknown domain")
                 continue
-            want = port_dims[p][1 if ein[p] else 0]
+            want = pair[1 if ein[p] else 0]
             rel = el.output(local, p)
             _learn((rel,), known, pdims)
             if local.input_symbol in rel.free_symbols and el.input_name():
