@@ -5,8 +5,8 @@ passes (its declared ports are its ports, each port's domain is declared, it
 has a law, a reference and a drawing label, and it draws);
 :func:`component_svg` draws a component's inside with its ports as labelled
 terminals; :func:`write_catalogue` writes ``docs/guide/library.md`` and one
-SVG per component, generated from the classes (run
-``python -m bondgraph.library.catalogue docs/guide``).
+SVG per component (``docs/img/library/``), generated from the classes (run
+``python -m bondgraph.library.catalogue docs``).
 
 Examples
 --------
@@ -106,17 +106,20 @@ def check_component(cls: type[Component], comp: Optional[Component] = None) -> s
     return f"{name}: ports {', '.join(comp.ports)} ({doms})"
 
 
-def catalogue_markdown(pictures: str = "img/library") -> str:
+def catalogue_markdown(pictures: str = "../img/library") -> str:
     """The catalogue page (Markdown, MyST), one section per module and component."""
     load_all()
     lines = ["# Component library", "",
              "Generated from the classes of `bondgraph.library` by "
-             "`python -m bondgraph.library.catalogue docs/guide`; do not edit by hand.", "",
+             "`python -m bondgraph.library.catalogue docs`; do not edit by hand.", "",
              "Each component is a sub-model: add it to a graph and connect its ports as "
              "`'name.port'`. Parameters not given default to the positive symbol "
              "`<name>_<parameter>`. The chemical domain (`bondgraph.library.chemical`) is "
              "elements and a reaction-network builder rather than components; see its "
-             "module documentation.", ""]
+             "module documentation.", "",
+             "```pycon", ">>> from bondgraph.library.mechanical import Gear",
+             ">>> Gear(\"gb\", ratio=14)[\"n\"].modulus      # an N:1 reduction is TF(1/N)",
+             "1/14", "```", ""]
     by_module: dict[str, list[type[Component]]] = {}
     for key, cls in CATALOGUE.items():
         by_module.setdefault(key.split(".")[0], []).append(cls)
@@ -137,7 +140,8 @@ def catalogue_markdown(pictures: str = "img/library") -> str:
 
 
 def write_catalogue(directory: Union[str, os.PathLike]) -> list[Path]:
-    """Write ``library.md`` and ``img/library/<module>.<Component>.svg`` under ``directory``.
+    """Write ``guide/library.md`` and ``img/library/<module>.<Component>.svg`` under the
+    documentation ``directory``.
 
     Every file is written to a temporary name and renamed, so a failure
     leaves no half-written page.
@@ -148,7 +152,8 @@ def write_catalogue(directory: Union[str, os.PathLike]) -> list[Path]:
     written = []
     for key, cls in load_all().items():
         written.append(_atomic(pics / f"{key}.svg", component_svg(cls("c"))))
-    written.append(_atomic(out / "library.md", catalogue_markdown()))
+    (out / "guide").mkdir(parents=True, exist_ok=True)
+    written.append(_atomic(out / "guide" / "library.md", catalogue_markdown()))
     return written
 
 
@@ -160,5 +165,5 @@ def _atomic(path: Path, text: str) -> Path:
 
 
 if __name__ == "__main__":      # pragma: no cover - the docs build step
-    for p in write_catalogue(sys.argv[1] if len(sys.argv) > 1 else "docs/guide"):
+    for p in write_catalogue(sys.argv[1] if len(sys.argv) > 1 else "docs"):
         print(p)

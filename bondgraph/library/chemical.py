@@ -354,8 +354,11 @@ def conservation_laws(graph: Union[BondGraph, FlatGraph]) -> tuple[dict[str, int
     """The conserved moieties: a basis of the left null space of ``N`` (integer vectors).
 
     Each law is a mapping species -> coefficient with ``sum c_i q_i`` constant
-    in time; coefficients are the smallest integers (sympy's null space,
-    scaled by the least common multiple of its denominators).
+    in time, with the smallest integer coefficients.  The basis is the
+    reduced row echelon form of sympy's null space of ``N^T`` (pivots on the
+    species in graph order): the familiar moieties for small networks (free
+    enzyme ``E + C``), but not in general the non-negative extreme rays of
+    the conservation cone, which are not computed.
 
     Examples
     --------
@@ -367,12 +370,15 @@ def conservation_laws(graph: Union[BondGraph, FlatGraph]) -> tuple[dict[str, int
     ({'E': 1, 'C': 1},)
     """
     st = stoichiometric_matrix(graph)
+    basis = st.matrix.T.nullspace()
+    if not basis:
+        return ()
+    rows = sympy.Matrix.vstack(*[v.T for v in basis]).rref()[0]
     laws = []
-    for vec in st.matrix.T.nullspace():
-        scale = sympy.ilcm(*[sympy.fraction(sympy.nsimplify(x))[1] for x in vec]) if vec else 1
-        ints = [int(x * scale) for x in vec]
-        if sum(ints) < 0 or (sum(ints) == 0 and next(x for x in ints if x) < 0):
-            ints = [-x for x in ints]
+    for i in range(rows.rows):
+        row = rows.row(i)
+        scale = sympy.ilcm(*[sympy.fraction(x)[1] for x in row])
+        ints = [int(x * scale) for x in row]
         g = sympy.igcd(*ints) if len(ints) > 1 else abs(ints[0])
         laws.append({s: c // g for s, c in zip(st.species, ints) if c})
     return tuple(laws)

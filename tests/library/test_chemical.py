@@ -115,6 +115,7 @@ def test_stoichiometric_matrix_and_moieties_by_hand():
     H = sympy.Matrix([[law.get(s, 0) for s in st.species] for law in hand])
     assert L * N == sympy.zeros(2, 2)
     assert L.rank() == 2 and L.col_join(H).rank() == 2       # the same space as the hand laws
+    assert laws == tuple(hand)                               # and the same basis
 
 
 def test_stoichiometric_matrix_of_a_hand_built_graph_with_tf():
