@@ -41,7 +41,7 @@ bondgraph.units.UnitError: R:b, parameter b: its value has the unit newton/meter
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Mapping, Optional, Sequence, Union
 
 import sympy
@@ -55,7 +55,7 @@ from ..signals import t as T_SYM
 from ._dims import ZERO, Dim, Mismatch, Unknown, dims_of, si_value, text, unit_dims
 
 __all__ = ["Domain", "DOMAINS", "UnitError", "UnitReport", "bond_domains", "check_units",
-           "si_values", "signal_units"]
+           "si_values", "signal_units", "model_units", "fmu_with_units", "export_fmu_with_units"]
 
 
 class UnitError(BondGraphError, ValueError):
@@ -232,12 +232,15 @@ class UnitReport:
         Relations that could not be (unknown domain, parameter without units).
     units : dict of str to str
         States and inputs -> their unit (named or SI base), where known.
+    dims : dict of str to tuple
+        The same as dimension vectors (SI base exponents; see ``_dims``).
     """
 
     domains: Mapping[int, str]
     checked: int
     unchecked: tuple[str, ...]
     units: Mapping[str, str]
+    dims: Mapping[str, Dim] = field(default_factory=dict)
 
 
 class _DimLocal(LocalVariables):
@@ -318,7 +321,7 @@ def check_units(graph: Union[BondGraph, FlatGraph], values: Mapping[str, Any], *
     aug = assign_causality(flat)
     pdims, shown = _parameter_dims(values)
     checked, unchecked, units = 0, [], {}
-    input_dims: dict[str, Dim] = {}
+    dims: dict[str, Dim] = {}
     for el in flat.elements:
         inc = flat.incidence[el.name]
         ein = [aug.stroke_at_head[k] if flat.bonds[k].head == el.name else
@@ -335,7 +338,7 @@ def check_units(graph: Union[BondGraph, FlatGraph], values: Mapping[str, Any], *
             sym = sympy.Dummy(name)
             try:
                 known[sym] = tuple(a + b for a, b in zip(dims_of(rate, known), _TIME))
-                units[name] = text(known[sym])
+                units[name], dims[name] = text(known[sym]), known[sym]
             except (Unknown, Mismatch):
                 known[sym] = None
             state_syms.append(sym)
@@ -354,7 +357,7 @@ def check_units(graph: Union[BondGraph, FlatGraph], values: Mapping[str, Any], *
             _learn((rel,), known, pdims)
             if local.input_symbol in rel.free_symbols and el.input_name():
                 known[local.input_symbol] = want
-                input_dims[el.input_name() or ""] = want
+                dims[el.input_name() or ""] = want
                 units[el.input_name() or ""] = text(want)
             try:
                 got = dims_of(rel, known)
@@ -371,7 +374,7 @@ def check_units(graph: Union[BondGraph, FlatGraph], values: Mapping[str, Any], *
                 raise UnitError(_culprit(el, rel, known, got, want, inc[p] + 1,
                                          doms[inc[p] + 1], shown))
             checked += 1
-    return UnitReport(doms, checked, tuple(unchecked), units)
+    return UnitReport(doms, checked, tuple(unchecked), units, dims)
 
 
 def _learn(exprs, known: dict, pdims: Mapping[str, Optional[Dim]]) -> None:
@@ -412,3 +415,6 @@ def signal_units(report: UnitReport, names: Sequence[str]) -> dict[str, str]:
     {'p_m': 'kilogram*meter/second', 'F': 'newton'}
     """
     return {n: report.units[n] for n in names if n in report.units}
+
+
+from ._fmu import export_fmu_with_units, fmu_with_units, model_units  # noqa: E402

@@ -133,3 +133,27 @@ def test_srv02_tachometer_conversion_matches_the_model_constant():
     si = si_values({"k_tach": 1.5e-3 * u.volt / (2 * math.pi * u.radian / u.minute)})
     # 1.5 mV per RPM; models/srv02.py: 1.5e-3 * 60 / (2 pi) V/(rad/s)
     assert si["k_tach"] == pytest.approx(srv02.PARAMETERS["k_tach"], rel=1e-12)
+
+
+@pytest.mark.parametrize("fmi", [2, 3])
+def test_fmu_carries_the_units_fmpy_reads_them(tmp_path, fmi):
+    fmpy = pytest.importorskip("fmpy")
+    from bondgraph.units import export_fmu_with_units
+
+    g = _msd()
+    model = bg.derive(g, outputs={"x": bg.displacement("k.C"), "v": bg.flow("v")})
+    path = export_fmu_with_units(model, tmp_path / "msd.fmu", graph=g, values=GOOD, fmi=fmi,
+                                 binary=False)
+    md = fmpy.read_model_description(str(path), validate=True)
+    unit = {v.name: (v.unit if v.unit is None or isinstance(v.unit, str) else v.unit.name)
+            for v in md.modelVariables}
+    # by hand: momentum N s, deflection m, force N, velocity m/s; parameters in SI
+    assert unit["p_m.I"] == "kilogram*meter/second"
+    assert unit["der(p_m.I)"] == "newton"
+    assert unit["F.F"] == "newton"
+    assert unit["x"] == "meter" and unit["v"] == "meter/second"
+    assert unit["k"] == "newton/meter" and unit["m"] == "kilogram"
+    bases = {u_.name: u_.baseUnit for u_ in md.unitDefinitions}
+    assert (bases["newton"].kg, bases["newton"].m, bases["newton"].s) == (1, 1, -2)
+    starts = {v.name: v.start for v in md.modelVariables}
+    assert float(starts["k"]) == 3000.0           # 3 N/mm in SI
