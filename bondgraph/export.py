@@ -55,7 +55,8 @@ JSON, format ``bondgraph-statespace`` version 1
     Matrices are row-major nested lists of finite numbers (JSON has no NaN or
     infinity: a plant with such entries cannot be written); a matrix with no
     rows is ``[]``.  :func:`load_json` reads the format back and checks every
-    field (``model`` and ``parameters`` may be left out; any other key
+    field (``model``, ``parameters`` and ``units`` -- signal name -> unit text,
+    written by :mod:`bondgraph.units` -- may be left out; any other key
     missing, an unknown key, a repeated key or another version is refused).
     JSON stays dense (the format any reader can take as is): a sparse plant
     is written with its matrices expanded when it has at most
@@ -472,8 +473,8 @@ def load_json(path: PathLike) -> NumericStateSpace:
 
 #: keys of the JSON document; ``model`` and ``parameters`` may be left out
 _JSON_KEYS = ("format", "version", "model", "states", "inputs", "outputs", "A", "B", "C", "D",
-              "parameters")
-_JSON_OPTIONAL = ("model", "parameters")
+              "parameters", "units")
+_JSON_OPTIONAL = ("model", "parameters", "units")
 
 
 def _plant_from_document(doc: Any, where: str) -> NumericStateSpace:
@@ -511,6 +512,9 @@ def _plant_from_document(doc: Any, where: str) -> NumericStateSpace:
     if not isinstance(params_doc, dict):
         raise fail(f'"parameters" must be an object of names to numbers; got '
                    f"{type(params_doc).__name__} {short_repr.repr(params_doc)}")
+    units_doc = doc.get("units", {})
+    if not isinstance(units_doc, dict) or not all(isinstance(v, str) for v in units_doc.values()):
+        raise fail(f'"units" must be an object of names to unit texts; got {short_repr.repr(units_doc)}')
     params = {}
     for key, value in params_doc.items():
         problem = number_problem(value)

@@ -55,7 +55,8 @@ from ..signals import t as T_SYM
 from ._dims import ZERO, Dim, Mismatch, Unknown, dims_of, si_value, text, unit_dims
 
 __all__ = ["Domain", "DOMAINS", "UnitError", "UnitReport", "bond_domains", "check_units",
-           "si_values", "signal_units", "model_units", "fmu_with_units", "export_fmu_with_units"]
+           "si_values", "signal_units", "model_units", "fmu_with_units", "export_fmu_with_units",
+           "export_mat_with_units", "export_json_with_units"]
 
 
 class UnitError(BondGraphError, ValueError):
@@ -418,3 +419,4 @@ def signal_units(report: UnitReport, names: Sequence[str]) -> dict[str, str]:
 
 
 from ._fmu import export_fmu_with_units, fmu_with_units, model_units  # noqa: E402
+from ._export import export_json_with_units, export_mat_with_units  # noqa: E402

@@ -157,3 +157,28 @@ def test_fmu_carries_the_units_fmpy_reads_them(tmp_path, fmi):
     assert (bases["newton"].kg, bases["newton"].m, bases["newton"].s) == (1, 1, -2)
     starts = {v.name: v.start for v in md.modelVariables}
     assert float(starts["k"]) == 3000.0           # 3 N/mm in SI
+
+
+def test_mat_and_json_carry_the_units(tmp_path):
+    import json
+
+    import scipy.io
+
+    from bondgraph.export import load_json
+    from bondgraph.units import export_json_with_units, export_mat_with_units, model_units
+
+    g = _msd()
+    model = bg.derive(g, outputs={"x": bg.displacement("k.C"), "v": bg.flow("v")})
+    plant = bg.numeric_plant(model, si_values(GOOD))
+    dims = model_units(model, g, GOOD)
+    export_mat_with_units(plant, tmp_path / "msd.mat", dims)
+    m = scipy.io.loadmat(tmp_path / "msd.mat")
+    units = {str(m["state_names"][0, i][0]): str(m["state_units"][0, i][0]) for i in range(2)}
+    assert units == {"p_m.I": "kilogram*meter/second", "q_k.C": "meter"}
+    assert [str(c[0]) for c in m["output_units"][0]] == ["meter", "meter/second"]
+    assert str(m["input_units"][0, 0][0]) == "newton"
+    export_json_with_units(plant, tmp_path / "msd.json", dims)
+    doc = json.loads((tmp_path / "msd.json").read_text())
+    assert doc["units"]["F.F"] == "newton" and doc["units"]["v"] == "meter/second"
+    back = load_json(tmp_path / "msd.json")          # the reader accepts the key
+    np.testing.assert_allclose(back.A, plant.A)
