@@ -83,7 +83,7 @@ def si_value(value: sympy.Expr) -> tuple[float, Dim, str]:
     >>> si_value(2 * u.newton / u.millimeter)[::2]
     (2000.0, 'newton/millimeter')
     """
-    coeff, unit = sympy.sympify(value).as_coeff_Mul()
+    coeff, unit = sympy.sympify(value, strict=True).as_coeff_Mul()
     base = u.convert_to(value, list(BASE_UNITS) + [u.radian])
     number = base.xreplace({q: sympy.Integer(1) for q in base.atoms(u.Quantity)})
     number = number.xreplace({p: p.scale_factor for p in number.atoms(Prefix)})
