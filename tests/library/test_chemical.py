@@ -218,3 +218,33 @@ def test_chemical_elements_draw_with_their_labels():
     svg = bg.draw(net.graph())
     for text in ("Ce:E", "Ce:S", "Re:r1", "chemostat"):
         assert text in svg
+
+
+def _open_cycle(x_A):
+    """BondGraphTools' open cycle (test/test_biochem.py, open_cycle): X + A = Y = Z = X + B."""
+    net = ReactionNetwork("open_cycle", temperature=1, gas_constant=1)
+    X, Y, Z = net.species("X", K=1), net.species("Y", K=2), net.species("Z", K=3)
+    A, B = net.chemostat("A", K=1, amount=x_A), net.chemostat("B", K=2, amount=1)
+    net.reaction("r1", X + A, Y, r=1)
+    net.reaction("r2", Y, Z, r=2)
+    net.reaction("r3", Z, X + B, r=3)
+    return bg.derive(net.graph())
+
+
+def test_open_cycle_relations_bondgraphtools():
+    model = _open_cycle(1)
+    x0, x1, x2 = sympy.symbols("q_X q_Y q_Z", real=True)
+    # BondGraphTools test_open_cycle: dx0 + 7 x0 - 2 x1 - 9 x2, dx1 - x0 + 6 x1 - 6 x2,
+    # dx2 - 6 x0 - 4 x1 + 15 x2
+    assert [sympy.expand(r) for r in model.rhs] == [-7 * x0 + 2 * x1 + 9 * x2,
+                                                    x0 - 6 * x1 + 6 * x2,
+                                                    6 * x0 + 4 * x1 - 15 * x2]
+
+
+@pytest.mark.parametrize("x_A, flux", [(0.02, -3.0906200316489003), (2.0, 0.0),
+                                       (200.0, 10.860335195530652)], ids=["low", "balanced", "high"])
+def test_open_cycle_steady_fluxes_bondgraphtools(x_A, flux):
+    """BondGraphTools test_sims.py::test_open_cycle: the flux of r1 after 10 s from (2, 2, 2)."""
+    x = _final(_open_cycle(x_A), {}, 10.0, {"q_X": 2.0, "q_Y": 2.0, "q_Z": 2.0})
+    v1 = 1 * (1 * x["q_X"] * 1 * x_A - 2 * x["q_Y"])
+    assert v1 == pytest.approx(flux, abs=1e-6)
