@@ -182,3 +182,19 @@ def test_mat_and_json_carry_the_units(tmp_path):
     assert doc["units"]["F.F"] == "newton" and doc["units"]["v"] == "meter/second"
     back = load_json(tmp_path / "msd.json")          # the reader accepts the key
     np.testing.assert_allclose(back.A, plant.A)
+
+
+def test_rs_joins_an_electrical_and_a_thermal_domain_with_units():
+    from bondgraph.library.thermal import RS, EntropyStore
+
+    g = bg.BondGraph("heater")
+    g.add(el.VoltageSource("V"), bg.Zero("n"), bg.One("i"), RS("Rh", "Rh"), bg.Zero("T"),
+          EntropyStore("body", heat_capacity="c", reference_temperature="T0"))
+    for t, h in [("V.p", "n"), ("n", "i"), ("i", "Rh"), ("Rh", "T"), ("T", "body.p")]:
+        g.connect(t, h)
+    values = {"Rh": 4 * u.ohm, "c": 200 * u.joule / u.kelvin, "T0": 300 * u.kelvin}
+    rep = check_units(g, values)
+    assert rep.unchecked == () and rep.units["q_body.S"] == "joule/kelvin"    # entropy
+    assert set(rep.domains.values()) == {"electrical", "thermal (entropy)"}
+    with pytest.raises(UnitError, match=r"RS:Rh, parameter Rh: .*henry.* needs ohm"):
+        check_units(g, dict(values, Rh=4 * u.henry))
