@@ -340,10 +340,10 @@ def stoichiometric_matrix(graph: Union[BondGraph, FlatGraph]) -> Stoichiometry:
         if key not in rows:
             raise ModelStructureError(f"model {flat.name!r}: species Ce:{name} is in derivative "
                                       "causality, so its amount is not a state")
-        rate = sympy.expand(model.rhs[rows[key]])
+        terms = sympy.expand(model.rhs[rows[key]]).as_coefficients_dict()
         for j, vj in enumerate(v):
-            N[i, j] = rate.coeff(vj)
-        rest = sympy.expand(rate - sum(N[i, j] * vj for j, vj in enumerate(v)))
+            N[i, j] = terms.pop(vj, 0)
+        rest = sympy.Add(*[c * t for t, c in terms.items()])
         if rest != 0:
             raise ModelStructureError(f"model {flat.name!r}: the rate of species Ce:{name} has "
                                       f"the term {rest} that is not a reaction flow")

@@ -355,6 +355,9 @@ def check_units(graph: Union[BondGraph, FlatGraph], values: Mapping[str, Any], *
                 continue
             want = pair[1 if ein[p] else 0]
             rel = el.output(local, p)
+            if rel == 0:                   # zero has every unit (a Fixed, a Ground)
+                checked += 1
+                continue
             _learn((rel,), known, pdims)
             if local.input_symbol in rel.free_symbols and el.input_name():
                 known[local.input_symbol] = want

@@ -17,6 +17,8 @@ True
 
 from __future__ import annotations
 
+import functools
+
 from typing import Mapping, Optional
 
 import sympy
@@ -58,6 +60,7 @@ class Unknown(Exception):
     """A symbol of unknown dimension: the relation cannot be checked."""
 
 
+@functools.lru_cache(maxsize=1024)
 def unit_dims(unit: sympy.Expr) -> Dim:
     """The dimension vector of a sympy.physics.units expression."""
     deps = dimsys_SI.get_dimensional_dependencies(Dimension(SI.get_dimensional_expr(unit)))
@@ -65,6 +68,7 @@ def unit_dims(unit: sympy.Expr) -> Dim:
     return tuple(by_name.get(b, sympy.Integer(0)) for b in _BASE) + (sympy.Integer(0),)
 
 
+@functools.lru_cache(maxsize=1024)
 def text(d: Dim) -> str:
     """A dimension as a named unit when one matches, else as SI base units."""
     if all(x == 0 for x in d[:-1]):
@@ -84,10 +88,15 @@ def si_value(value: sympy.Expr) -> tuple[float, Dim, str]:
     (2000.0, 'newton/millimeter')
     """
     coeff, unit = sympy.sympify(value, strict=True).as_coeff_Mul()
-    base = u.convert_to(value, list(BASE_UNITS) + [u.radian])
+    return float(coeff * _si_factor(unit)), unit_dims(unit), str(unit)
+
+
+@functools.lru_cache(maxsize=1024)
+def _si_factor(unit: sympy.Expr) -> sympy.Expr:
+    """The number a unit is in SI base units (``convert_to`` is slow: once per unit)."""
+    base = u.convert_to(unit, list(BASE_UNITS) + [u.radian])
     number = base.xreplace({q: sympy.Integer(1) for q in base.atoms(u.Quantity)})
-    number = number.xreplace({p: p.scale_factor for p in number.atoms(Prefix)})
-    return float(number), unit_dims(unit), str(unit)
+    return number.xreplace({p: p.scale_factor for p in number.atoms(Prefix)})
 
 
 def _add(a: Dim, b: Dim) -> Dim:

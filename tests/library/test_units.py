@@ -198,3 +198,11 @@ def test_rs_joins_an_electrical_and_a_thermal_domain_with_units():
     assert set(rep.domains.values()) == {"electrical", "thermal (entropy)"}
     with pytest.raises(UnitError, match=r"RS:Rh, parameter Rh: .*henry.* needs ohm"):
         check_units(g, dict(values, Rh=4 * u.henry))
+
+
+def test_a_zero_source_has_every_unit():
+    g = bg.BondGraph("wall")
+    g.add(me.ForceSource("F"), bg.One("v"), me.Spring("k", stiffness="k"), me.Fixed("wall"))
+    for t, h in [("F.p", "v"), ("v", "k.a"), ("k.b", "wall.p")]:
+        g.connect(t, h)
+    assert check_units(g, {"k": 1 * u.newton / u.meter}).unchecked == ()
