@@ -33,8 +33,8 @@ from ..signals import displacement, e as E_VAR, f as F_VAR, q as Q_VAR
 from ..values import ParameterLike
 from ._component import Component
 
-__all__ = ["Orifice", "Pipe", "Accumulator", "Cylinder", "ProportionalValve", "PressureSource",
-           "FlowSource", "Tank", "orifice_flow", "orifice_drop"]
+__all__ = ["Orifice", "Pipe", "Accumulator", "GravityTank", "Cylinder", "ProportionalValve",
+           "PressureSource", "FlowSource", "Tank", "orifice_flow", "orifice_drop"]
 
 _MER = "Merritt, Hydraulic Control Systems, 1967"
 
@@ -186,6 +186,37 @@ class Accumulator(Component):
         inverse = V0 * (1 - (p0 / E_VAR) ** (1 / n))
         self.add(Port("p"), C("gas", law=law, inverse=inverse))
         self.connect("p", "gas")
+
+
+class GravityTank(Component):
+    """An open tank of cross-section ``A``: the pressure at its bottom is ``p = rho g q/A``.
+
+    ``q`` is the volume of liquid (state ``q_<name>.C``; the level is
+    ``h = q/A``): a linear ``C`` of capacitance ``A/(rho g)`` (hydrostatics;
+    Karnopp, Margolis and Rosenberg, *System Dynamics*, 5th ed., Sec. 4.4).
+
+    Examples
+    --------
+    >>> GravityTank("t1", area=2, density=1000, gravity=10)["C"].parameter
+    1/5000
+    """
+
+    domain = "hydraulic"
+    port_names = ("p",)
+    port_domains = {"p": "hydraulic"}
+    law = "p = rho g q / A  (C = A / (rho g))"
+    reference = "Karnopp, Margolis and Rosenberg, System Dynamics, 5th ed., Sec. 4.4"
+    symbol = "C"
+
+    def __init__(self, name: str, *, area: ParameterLike = None, density: ParameterLike = None,
+                 gravity: ParameterLike = None) -> None:
+        self._given = (area, density, gravity)
+        super().__init__(name)
+
+    def build(self) -> None:
+        A, rho, g = (self.param(v, w) for v, w in zip(self._given, ("area", "rho", "g")))
+        self.add(Port("p"), C("C", A / (rho * g)))
+        self.connect("p", "C")
 
 
 class Cylinder(Component):

@@ -160,3 +160,66 @@ def test_component_errors_name_the_component_and_parameter():
     g.add(el.Resistor("R1"))
     with pytest.raises(bg.PortError, match="not a port of sub-model 'R1'; its ports are: p, n"):
         g.connect("R1.x", "R1.n")
+
+
+def test_two_tanks_through_orifices_equilibrium_and_poles_by_hand():
+    """The classic two-tank cascade (MTT's TwoTanks shape) with square-root outlets.
+
+    By hand: at equilibrium each orifice passes Q0: p2 = (Q0/c2)**2 (to the
+    drain), p1 = p2 + (Q0/c1)**2 (into tank 2), q_i = C_i p_i with
+    C_i = A_i/(rho g).  Linearized, each orifice is a conductance
+    g_i = Q0/(2 dp_i): dq1/dt = -g1 (p1 - p2), dq2/dt = g1 (p1 - p2) - g2 p2.
+    """
+    Q0, rho, g0 = 1e-3, 1000.0, 9.81
+    A1, A2, c1, c2 = 0.5, 0.8, 2.0e-5, 3.0e-5          # c = Cd a sqrt(2/rho)
+    cd, rho_o = 0.6, rho
+    a1, a2 = c1 / (cd * math.sqrt(2 / rho_o)), c2 / (cd * math.sqrt(2 / rho_o))
+    g = bg.BondGraph("two_tanks")
+    g.add(hy.FlowSource("pump", value=Q0),
+          hy.GravityTank("t1", area=A1, density=rho, gravity=g0),
+          hy.GravityTank("t2", area=A2, density=rho, gravity=g0),
+          hy.Orifice("o1", area=a1, discharge=cd, density=rho_o),
+          hy.Orifice("o2", area=a2, discharge=cd, density=rho_o),
+          hy.Tank("drain"), bg.Zero("p1"), bg.Zero("p2"))
+    _connect(g, [("pump.p", "p1"), ("p1", "t1.p"), ("p1", "o1.a"), ("o1.b", "p2"),
+                 ("p2", "t2.p"), ("p2", "o2.a"), ("o2.b", "drain.p")])
+    model = bg.derive(g)
+    q = model.states
+    C1, C2 = A1 / (rho * g0), A2 / (rho * g0)
+    p2 = (Q0 / c2) ** 2
+    p1 = p2 + (Q0 / c1) ** 2
+    x_star = [C1 * p1, C2 * p2]
+    f = sympy.lambdify(q, list(model.rhs))
+    assert np.allclose(f(*x_star), 0.0, atol=1e-12 * Q0)
+    g1, g2 = Q0 / (2 * (p1 - p2)), Q0 / (2 * p2)
+    J = np.empty((2, 2))
+    for j in range(2):          # central differences of the model's right-hand side
+        h = 1e-6 * x_star[j]
+        up, dn = list(x_star), list(x_star)
+        up[j] += h
+        dn[j] -= h
+        J[:, j] = (np.array(f(*up)) - np.array(f(*dn))) / (2 * h)
+    hand = [[-g1 / C1, g1 / C2], [g1 / C1, -(g1 + g2) / C2]]
+    np.testing.assert_allclose(J, hand, rtol=1e-6)
+
+
+def test_pipe_inertance_drives_the_orifice_inverse_law():
+    """Flow causality on the orifice: the pipe's inertance fixes Q, the orifice gives dp.
+
+    Steady state by hand: Ps = R Q + Q**2/c**2, the positive root.
+    """
+    Ps, L, d, mu, rho = 2e5, 3.0, 0.01, 0.03, 850.0
+    cd, a = 0.6, 2e-5
+    g = bg.BondGraph("line")
+    g.add(hy.PressureSource("ps", value=Ps), hy.Pipe("pipe", length=L, diameter=d, viscosity=mu,
+                                                     density=rho),
+          hy.Orifice("o", area=a, discharge=cd, density=rho), hy.Tank("drain"), bg.Zero("n"))
+    _connect(g, [("ps.p", "pipe.a"), ("pipe.b", "n"), ("n", "o.a"), ("o.b", "drain.p")])
+    model = bg.derive(g, outputs={"Q": bg.flow("pipe.Q")})
+    assert len(model.states) == 1                      # the pipe's pressure momentum
+    R = 128 * mu * L / (math.pi * d**4)
+    c = cd * a * math.sqrt(2 / rho)
+    Q = (-R + math.sqrt(R**2 + 4 * Ps / c**2)) / (2 / c**2)
+    I = rho * L / (math.pi * d**2 / 4)
+    rhs = sympy.lambdify(model.states, model.rhs[0])
+    assert abs(rhs(I * Q)) < 1e-9 * Ps
