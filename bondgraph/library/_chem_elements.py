@@ -141,12 +141,22 @@ class Re(ConductanceTwoPort):
     (effort on both ports).  With ``mu = RT ln(K q)`` species it is mass
     action: ``v = kf prod q_s^n_s - kr prod q_p^n_p`` with ``kf = r prod K_s^n_s``.
 
+    The *mass-action form* gives the two rate constants instead of ``r``:
+    ``v = kf exp(A_f/RT) - kr exp(A_r/RT)``, so with species of ``K = 1``
+    ``v = kf prod q_s^n_s - kr prod q_p^n_p`` exactly as a kinetic scheme is
+    written.  It obeys detailed balance only when ``kf/kr`` equals the
+    reaction's equilibrium constant (with ``K = 1`` species: 1); the
+    Marcelin--de Donder form obeys it by construction.
+
     Parameters
     ----------
     name : str
     r : number, str or sympy expression, optional
         The reaction rate constant (mol/s); defaults to the positive symbol
         ``r_<path>``.
+    kf, kr : optional, keyword only
+        The mass-action form's forward and reverse rate constants (both, and
+        no ``r``).
     temperature, gas_constant : optional, keyword only
         As for :class:`Ce`.
 
@@ -154,9 +164,13 @@ class Re(ConductanceTwoPort):
     --------
     >>> Re("r1").r_value, Re("r1", r=3).resolved("cell.r1").r_value
     (r_r1, 3)
+    >>> Re("r2", kf=2, kr=1).rate(0, 0)
+    1
     """
 
     r: ParameterLike = field(default=None, kw_only=True)
+    kf: ParameterLike = field(default=None, kw_only=True)
+    kr: ParameterLike = field(default=None, kw_only=True)
     temperature: ParameterLike = field(default=None, kw_only=True)
     gas_constant: ParameterLike = field(default=None, kw_only=True)
     kind: ClassVar[str] = "Re"
@@ -168,7 +182,17 @@ class Re(ConductanceTwoPort):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        self.r_value, self.RT()      # validate now, at the wrong call
+        if (self.kf is None) != (self.kr is None) or (self.kf is not None and self.r is not None):
+            raise ParameterError(f"{self.label()}: give r (Marcelin-de Donder form) or both kf "
+                                 "and kr (mass-action form), not a mix")
+        self._constants(), self.RT()      # validate now, at the wrong call
+
+    def _constants(self) -> tuple[sympy.Expr, sympy.Expr]:
+        """The forward and reverse coefficients (``r, r`` or ``kf, kr``)."""
+        if self.kf is None:
+            return self.r_value, self.r_value
+        return (_positive(self.kf, sympy.Integer(1), owner=self.label(), what="kf"),
+                _positive(self.kr, sympy.Integer(1), owner=self.label(), what="kr"))
 
     @property
     def r_value(self) -> sympy.Expr:
@@ -191,7 +215,10 @@ class Re(ConductanceTwoPort):
         """
         rt = self.RT()
         term = lambda a: sympy.exp(sympy.expand(sympy.expand_log(a / rt, force=False)))
-        return self.r_value * (term(forward) - term(reverse))
+        kf, kr = self._constants()
+        if kf == kr:
+            return kf * (term(forward) - term(reverse))
+        return kf * term(forward) - kr * term(reverse)
 
     def flows(self, effort_in: sympy.Expr, effort_out: sympy.Expr) -> tuple[sympy.Expr, sympy.Expr]:
         v = self.rate(effort_in, effort_out)

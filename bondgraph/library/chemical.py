@@ -142,6 +142,8 @@ class Reaction:
     substrates: Side
     products: Side
     r: ParameterLike
+    kf: ParameterLike = None
+    kr: ParameterLike = None
 
 
 class ReactionNetwork:
@@ -198,8 +200,11 @@ class ReactionNetwork:
 
     # ------------------------------------------------------------ reactions
     def reaction(self, name: str, substrates: Union[Species, Term, Side],
-                 products: Union[Species, Term, Side], *, r: ParameterLike = None) -> Reaction:
+                 products: Union[Species, Term, Side], *, r: ParameterLike = None,
+                 kf: ParameterLike = None, kr: ParameterLike = None) -> Reaction:
         """Add the reaction ``substrates = products`` with rate constant ``r``.
+
+        ``kf`` and ``kr`` instead of ``r`` give the mass-action form (see :class:`Re`).
 
         Raises
         ------
@@ -223,8 +228,8 @@ class ReactionNetwork:
                                         f"not in network {self.name!r}; add it with "
                                         "species() first")
             sides.append(s)
-        Re(name, r=r, **self._thermo)            # validate r now
-        rx = Reaction(name, sides[0], sides[1], r)
+        Re(name, r=r, kf=kf, kr=kr, **self._thermo)            # validate now
+        rx = Reaction(name, sides[0], sides[1], r, kf, kr)
         self._reactions[name] = rx
         return rx
 
@@ -237,7 +242,7 @@ class ReactionNetwork:
             g.connect(f"mu_{sp_name}", sp_name) if isinstance(el, Ce) else g.connect(sp_name, f"mu_{sp_name}")
         for rx in self._reactions.values():
             fwd, rev = f"{rx.name}_f", f"{rx.name}_r"
-            g.add(Re(rx.name, r=rx.r, **self._thermo), One(fwd), One(rev))
+            g.add(Re(rx.name, r=rx.r, kf=rx.kf, kr=rx.kr, **self._thermo), One(fwd), One(rev))
             g.connect(fwd, rx.name)
             g.connect(rx.name, rev)
             for term in rx.substrates.terms:

@@ -248,3 +248,19 @@ def test_open_cycle_steady_fluxes_bondgraphtools(x_A, flux):
     x = _final(_open_cycle(x_A), {}, 10.0, {"q_X": 2.0, "q_Y": 2.0, "q_Z": 2.0})
     v1 = 1 * (1 * x["q_X"] * 1 * x_A - 2 * x["q_Y"])
     assert v1 == pytest.approx(flux, abs=1e-6)
+
+
+def test_mass_action_form_by_hand():
+    # A + B = 2C with kf = 3, kr = 0.5 and K = 1 species: v = 3 qA qB - 0.5 qC^2
+    net = ReactionNetwork("ma")
+    A, B, C = (net.species(n, K=1) for n in "ABC")
+    net.reaction("r", A + B, 2 * C, kf=3, kr=sympy.Rational(1, 2))
+    model = bg.derive(net.graph())
+    qA, qB, qC = sympy.symbols("q_A q_B q_C", real=True)
+    v = 3 * qA * qB - qC**2 / 2
+    assert [sympy.expand(x) for x in model.rhs] == [sympy.expand(-v), sympy.expand(-v),
+                                                    sympy.expand(2 * v)]
+    with pytest.raises(bg.ParameterError, match="give r .* or both kf and kr"):
+        Re("bad", r=1, kf=2, kr=1)
+    with pytest.raises(bg.ParameterError, match="not a mix"):
+        Re("bad", kf=2)
