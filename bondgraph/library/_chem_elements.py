@@ -39,10 +39,10 @@ import sympy
 
 from ..elements import C, Se, Sf
 from ..errors import ParameterError
-from ..protocol import Element, rename
+from ..elements.protocol import Element, rename
 from ._twoport import ConductanceTwoPort, positive_parameter as _positive
 from ..signals import Signal, e as E_VAR, q as Q_VAR
-from ..values import ParameterLike, nonzero, to_expr
+from .._support.sympify import ParameterLike, nonzero, to_expr
 
 __all__ = ["Ce", "Re", "Chemostat", "Flowstat", "GAS_CONSTANT", "FARADAY", "R_GAS", "TEMPERATURE"]
 

@@ -41,7 +41,7 @@ import sympy
 
 from ..errors import ModelStructureError
 from ..graph import BondGraph
-from ..values import ParameterLike
+from .._support.sympify import ParameterLike
 from ._twoport import positive_parameter
 
 __all__ = ["Component", "CATALOGUE", "components"]

@@ -32,10 +32,10 @@ import sympy
 
 from ..elements import C
 from ..errors import ParameterError
-from ..protocol import (ARBITRARY, RESISTIVE, CausalPorts, Choice, Decision, Element,
+from ..elements.protocol import (ARBITRARY, RESISTIVE, CausalPorts, Choice, Decision, Element,
                         LocalVariables, rename)
 from ..signals import e as E_VAR, q as Q_VAR
-from ..values import ParameterLike
+from .._support.sympify import ParameterLike
 from ._twoport import ConductanceTwoPort, DirectedTwoPort, positive_parameter
 
 __all__ = ["Radiation", "EntropyCapacity", "HeatConduction", "RS", "STEFAN_BOLTZMANN",

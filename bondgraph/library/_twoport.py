@@ -24,9 +24,9 @@ from typing import TYPE_CHECKING, ClassVar, Optional, Sequence
 import sympy
 
 from ..errors import ParameterError
-from ..protocol import CausalPorts, Decision, Element, LocalVariables
+from ..elements.protocol import CausalPorts, Decision, Element, LocalVariables
 from ..signals import Signal, t as T_SYM
-from ..values import ParameterLike, nonzero, to_expr
+from .._support.sympify import ParameterLike, nonzero, to_expr
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..graph import Bond

@@ -28,7 +28,7 @@ from typing import ClassVar, Optional, Union
 
 from ..errors import ModelStructureError
 from ..graph import BondGraph
-from ..protocol import Element
+from ..elements.protocol import Element
 from ._component import CATALOGUE, Component
 
 __all__ = ["DOMAINS", "check_component", "component_svg", "catalogue_markdown", "write_catalogue",

@@ -47,8 +47,8 @@ from ..elements import TF, One, Zero
 from ..errors import ModelStructureError
 from ..flatten import FlatGraph, flatten
 from ..graph import BondGraph
-from ..protocol import Decision, Element, LocalVariables, check_name
-from ..values import ParameterLike
+from ..elements.protocol import Decision, Element, LocalVariables, check_name
+from .._support.sympify import ParameterLike
 from ._chem_elements import (FARADAY, GAS_CONSTANT, R_GAS, TEMPERATURE, Ce, Chemostat, Flowstat,
                              Re)
 
@@ -326,7 +326,7 @@ def stoichiometric_matrix(graph: Union[BondGraph, FlatGraph]) -> Stoichiometry:
     Matrix([[-1, 2]])
     """
     from ..causality import assign_causality
-    from ..equations import derive
+    from ..model import derive
 
     flat = graph if isinstance(graph, FlatGraph) else flatten(graph)
     reactions = tuple(el.name for el in flat.elements if isinstance(el, Re))

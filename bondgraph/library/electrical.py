@@ -29,7 +29,7 @@ from __future__ import annotations
 from typing import ClassVar
 
 from ..elements import C, I, One, Port, R, Se, Sf, TF
-from ..values import ParameterLike
+from .._support.sympify import ParameterLike
 from ._component import Component
 
 __all__ = ["Resistor", "Capacitor", "Inductor", "VoltageSource", "CurrentSource", "Ground",

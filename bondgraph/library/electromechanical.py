@@ -21,7 +21,7 @@ from typing import Union
 import sympy
 
 from ..elements import GY, I, One, Port, R
-from ..values import ParameterLike
+from .._support.sympify import ParameterLike
 from ._component import Component
 
 __all__ = ["DCMotor"]

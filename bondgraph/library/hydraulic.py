@@ -30,7 +30,7 @@ import sympy
 
 from ..elements import C, I, One, Port, R, Se, Sf, TF, Zero
 from ..signals import displacement, e as E_VAR, f as F_VAR, q as Q_VAR
-from ..values import ParameterLike
+from .._support.sympify import ParameterLike
 from ._component import Component
 
 __all__ = ["Orifice", "Pipe", "Accumulator", "GravityTank", "Cylinder", "ProportionalValve",

@@ -33,7 +33,7 @@ from __future__ import annotations
 from typing import ClassVar
 
 from ..elements import C, I, Port, R, Se, Sf, TF, Zero
-from ..values import ParameterLike
+from .._support.sympify import ParameterLike
 from ._component import Component
 
 __all__ = ["Mass", "Spring", "Damper", "ForceSource", "VelocitySource", "Fixed", "Inertia",

@@ -33,7 +33,7 @@ from __future__ import annotations
 from typing import ClassVar
 
 from ..elements import C, One, Port, R, Se, Sf
-from ..values import ParameterLike
+from .._support.sympify import ParameterLike
 from ._component import Component
 from ._thermal_elements import (RS, SIGMA_SB, STEFAN_BOLTZMANN, EntropyCapacity, HeatConduction,
                                 Radiation)

@@ -50,7 +50,7 @@ import sympy.physics.units as u
 from ..errors import BondGraphError
 from ..flatten import FlatGraph, flatten
 from ..graph import BondGraph, walk
-from ..protocol import Element, LocalVariables
+from ..elements.protocol import Element, LocalVariables
 from ..signals import t as T_SYM
 from ._dims import ZERO, Dim, Mismatch, Unknown, dims_of, si_value, text, unit_dims
 

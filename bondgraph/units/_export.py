@@ -25,7 +25,7 @@ from __future__ import annotations
 from typing import Mapping, Sequence
 
 from ..export import ExportError, _cell, _check_exportable, _check_plant, _json_text, _mat_dict, to_json_dict
-from ..files import PathLike, atomic_write
+from .._support.files import PathLike, atomic_write
 from ..numeric import NumericStateSpace
 from ._dims import Dim, text
 

@@ -136,7 +136,7 @@ def export_fmu_with_units(model: Model, path: Union[str, "os.PathLike[str]"], *,
     :func:`bondgraph.fmu.build_fmu`; ``graph`` and ``domains`` those of
     :func:`bondgraph.units.check_units`.  The file is written all or nothing.
     """
-    from ..files import atomic_write
+    from .._support.files import atomic_write
     from ..fmu import FMUError, build_fmu
     from . import si_values
 
