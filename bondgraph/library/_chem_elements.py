@@ -125,6 +125,13 @@ class Ce(C):
     def fixed_domains(self, into) -> dict[int, str]:
         return {0: "chemical"}
 
+    def energy_signals(self) -> tuple:
+        return ()        # its free energy is not a storage of the port-Hamiltonian form
+
+    def hamiltonian_error(self, dependent: bool) -> Optional[str]:
+        return (f"{self.label()}: a species' free energy R T (q ln(K q) - q) is defined for "
+                "q > 0 only and is not a port-Hamiltonian storage here")
+
     def drawing_label(self) -> tuple[str, str]:
         return self.label(), "species"
 
@@ -253,8 +260,8 @@ class Chemostat(Se):
     --------
     >>> Chemostat("S", K=1, amount=2).value
     R_gas*T*log(2)
-    >>> Chemostat("S").label()
-    'Ce:S'
+    >>> Chemostat("S").label()          # BondGraphs.jl's name for a chemostat
+    'SCe:S'
     """
 
     K: ParameterLike = field(default=None, kw_only=True)
@@ -288,9 +295,6 @@ class Chemostat(Se):
         object.__setattr__(el, "value", self._potential(path))
         return el
 
-    def label(self) -> str:
-        return f"Ce:{self.name}"
-
     def fixed_domains(self, into) -> dict[int, str]:
         return {0: "chemical"}
 
@@ -307,13 +311,10 @@ class Flowstat(Sf):
     Examples
     --------
     >>> Flowstat("Cl", value=0).label(), Flowstat("Cl").drawing_label()
-    ('Ce:Cl', ('Ce:Cl', 'flowstat'))
+    ('SfCe:Cl', ('SfCe:Cl', 'flowstat'))
     """
 
     kind: ClassVar[str] = "SfCe"
-
-    def label(self) -> str:
-        return f"Ce:{self.name}"
 
     def fixed_domains(self, into) -> dict[int, str]:
         return {0: "chemical"}

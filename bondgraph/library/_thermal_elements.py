@@ -169,7 +169,7 @@ class EntropyCapacity(C):
 
     def __post_init__(self) -> None:
         if (self.parameter, self.law, self.inverse, self.stiffness) != (None,) * 4:
-            raise ParameterError(f"C:{self.name}: an entropy capacity's law is T = T0 exp(S/c); "
+            raise ParameterError(f"CS:{self.name}: an entropy capacity's law is T = T0 exp(S/c); "
                                  "give heat_capacity= and reference_temperature=, not a law")
         self._set_law()
         super().__post_init__()
@@ -178,7 +178,7 @@ class EntropyCapacity(C):
         c = _param(self, self.heat_capacity, "heat_capacity")
         T0 = positive_parameter(self.reference_temperature,
                                 sympy.Symbol(f"T0_{self.name}", positive=True),
-                                owner=f"C:{self.name}", what="reference_temperature")
+                                owner=f"CS:{self.name}", what="reference_temperature")
         object.__setattr__(self, "law", T0 * sympy.exp(Q_VAR / c))
         object.__setattr__(self, "inverse", c * sympy.log(E_VAR / T0))
 
@@ -187,11 +187,15 @@ class EntropyCapacity(C):
         el._set_law()
         return el
 
-    def label(self) -> str:
-        return f"C:{self.name}"
-
     def fixed_domains(self, into) -> dict[int, str]:
         return {0: "thermal (entropy)"}
+
+    def energy_signals(self) -> tuple:
+        return ()        # U = c T0 (exp(S/c) - 1) is not a storage of the port-Hamiltonian form
+
+    def hamiltonian_error(self, dependent: bool) -> Optional[str]:
+        return (f"{self.label()}: a thermal capacity in entropy form (T = T0 exp(S/c)) is "
+                "not a port-Hamiltonian storage here")
 
     def drawing_label(self) -> tuple[str, str]:
         return self.label(), "entropy"

@@ -216,7 +216,7 @@ def test_chemical_elements_draw_with_their_labels():
     S = net.chemostat("S")
     net.reaction("r1", E + S, C)
     svg = bg.draw(net.graph())
-    for text in ("Ce:E", "Ce:S", "Re:r1", "chemostat"):
+    for text in ("Ce:E", "SCe:S", "Re:r1", "chemostat"):
         assert text in svg
 
 
