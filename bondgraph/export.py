@@ -84,7 +84,7 @@ from __future__ import annotations
 import json
 import os
 from pathlib import Path
-from typing import Any, Callable, Optional, Sequence
+from typing import Any, Callable, Mapping, Optional, Sequence
 
 import numpy as np
 
@@ -154,7 +154,8 @@ def _check_exportable(plant: NumericStateSpace) -> None:
             f"{', '.join(plant.state_names)}; export is refused rather than mislabelled")
 
 
-def export_mat(plant: NumericStateSpace, path: PathLike) -> None:
+def export_mat(plant: NumericStateSpace, path: PathLike, *,
+               units: Optional[Mapping[str, str]] = None) -> None:
     """Write a MATLAB/Octave ``.mat`` file (see the module docstring for its variables).
 
     Parameters
@@ -163,6 +164,10 @@ def export_mat(plant: NumericStateSpace, path: PathLike) -> None:
         The plant to write.
     path : str or path-like
         The file to write (replaced whole if it exists).
+    units : mapping of str to str, optional
+        Signal name -> unit text (:func:`bondgraph.units.model_units`); adds the
+        cell arrays ``state_units``, ``input_units`` and ``output_units``
+        (``''`` where a name has none).
 
     Raises
     ------
@@ -186,6 +191,10 @@ def export_mat(plant: NumericStateSpace, path: PathLike) -> None:
     import scipy.io
 
     data = _mat_dict(_check_plant(plant))
+    if units is not None:
+        for key, names in (("state_units", plant.state_names), ("input_units", plant.input_names),
+                           ("output_units", plant.output_names)):
+            data[key] = _cell([str(units.get(n, "")) for n in names])
     atomic_write(path, lambda fh: scipy.io.savemat(fh, data, format="5", long_field_names=False,
                                                    do_compression=False, oned_as="row"))
 
@@ -373,7 +382,8 @@ def _json_text(doc: dict[str, Any]) -> str:
     return "{\n" + ",\n".join(parts) + "\n}\n"
 
 
-def export_json(plant: NumericStateSpace, path: PathLike) -> None:
+def export_json(plant: NumericStateSpace, path: PathLike, *,
+                units: Optional[Mapping[str, str]] = None) -> None:
     """Write the JSON format ``bondgraph-statespace`` version 1 (module docstring).
 
     Parameters
@@ -382,6 +392,9 @@ def export_json(plant: NumericStateSpace, path: PathLike) -> None:
         The plant to write.
     path : str or path-like
         The file to write (replaced whole if it exists).
+    units : mapping of str to str, optional
+        Signal name -> unit text, written as the optional key ``"units"``
+        (for the plant's states, inputs and outputs).
 
     Raises
     ------
@@ -405,6 +418,9 @@ def export_json(plant: NumericStateSpace, path: PathLike) -> None:
     """
     _check_exportable(plant)
     doc = to_json_dict(plant)
+    if units is not None:
+        doc["units"] = {n: str(units[n]) for n in (*doc["states"], *doc["inputs"], *doc["outputs"])
+                        if n in units}
     where = os.fspath(target_path(path))
     for key in ("A", "B", "C", "D"):
         matrix = getattr(plant, key)

@@ -49,7 +49,7 @@ def model_units(model: Model, graph: BondGraph, values: Mapping[str, Any], *,
     refused here too); an output whose dimension cannot be known (a
     parameter without units in it) is left out.
     """
-    from . import check_units
+    from .check import check_units
 
     report = check_units(graph, values, domains=domains)
     out: dict[str, Dim] = {}
@@ -138,7 +138,7 @@ def export_fmu_with_units(model: Model, path: Union[str, "os.PathLike[str]"], *,
     """
     from .._support.files import atomic_write
     from ..fmu import FMUError, build_fmu
-    from . import si_values
+    from .check import si_values
 
     p = Path(os.fspath(path))
     if p.suffix.lower() != ".fmu":
