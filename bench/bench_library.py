@@ -53,7 +53,7 @@ def mass_chain(n: int):
 def main(sizes) -> None:
     import bondgraph as bg
     from bondgraph.library.chemical import conservation_laws, stoichiometric_matrix
-    from bondgraph.units import check_units
+    from bondgraph.library.units import check_units
 
     print(f"{'N':>5} {'derive':>8} {'N matrix':>9} {'moieties':>9} {'units check':>12}")
     for n in sizes:

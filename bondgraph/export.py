@@ -56,7 +56,7 @@ JSON, format ``bondgraph-statespace`` version 1
     infinity: a plant with such entries cannot be written); a matrix with no
     rows is ``[]``.  :func:`load_json` reads the format back and checks every
     field (``model``, ``parameters`` and ``units`` -- signal name -> unit text,
-    written by :mod:`bondgraph.units` -- may be left out; any other key
+    written by :mod:`bondgraph.library.units` -- may be left out; any other key
     missing, an unknown key, a repeated key or another version is refused).
     JSON stays dense (the format any reader can take as is): a sparse plant
     is written with its matrices expanded when it has at most
@@ -165,7 +165,7 @@ def export_mat(plant: NumericStateSpace, path: PathLike, *,
     path : str or path-like
         The file to write (replaced whole if it exists).
     units : mapping of str to str, optional
-        Signal name -> unit text (:func:`bondgraph.units.model_units`); adds the
+        Signal name -> unit text (:func:`bondgraph.library.units.model_units`); adds the
         cell arrays ``state_units``, ``input_units`` and ``output_units``
         (``''`` where a name has none).
 

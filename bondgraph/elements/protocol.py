@@ -520,7 +520,7 @@ class Element:
 
     # ------------------------------------------------------------ units
     def domain_groups(self, count: int) -> tuple[tuple[int, ...], ...]:
-        """Groups of ports whose bonds share one physical domain (:mod:`bondgraph.units`):
+        """Groups of ports whose bonds share one physical domain (:mod:`bondgraph.library.units`):
         all ``count`` ports by default; a TF or GY may join two domains."""
         return (tuple(range(count)),)
 

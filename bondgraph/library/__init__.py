@@ -14,9 +14,9 @@ Not imported by ``import bondgraph``: import the domain you need, e.g.
   -- components (:class:`~bondgraph.library._component.Component`) with a
   law, a source, named ports and a drawing label;
 * :mod:`~bondgraph.library.catalogue` -- the sub-model check and the
-  documentation's catalogue page.
-
-Units and domains are in :mod:`bondgraph.units`.
+  documentation's catalogue page;
+* :mod:`~bondgraph.library.units` -- physical domains of bonds, unit-carrying values,
+  the dimensional check, and units in FMU, ``.mat`` and JSON exports.
 
 Examples
 --------

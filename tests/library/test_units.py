@@ -19,7 +19,7 @@ import sympy.physics.units as u
 import bondgraph as bg
 from bondgraph.library import electrical as el, mechanical as me
 from bondgraph.library.chemical import GAS_CONSTANT, ReactionNetwork
-from bondgraph.units import UnitError, bond_domains, check_units, si_values
+from bondgraph.library.units import UnitError, bond_domains, check_units, si_values
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "models"))
 import flexcam  # noqa: E402
@@ -138,7 +138,7 @@ def test_srv02_tachometer_conversion_matches_the_model_constant():
 @pytest.mark.parametrize("fmi", [2, 3])
 def test_fmu_carries_the_units_fmpy_reads_them(tmp_path, fmi):
     fmpy = pytest.importorskip("fmpy")
-    from bondgraph.units import export_fmu_with_units
+    from bondgraph.library.units import export_fmu_with_units
 
     g = _msd()
     model = bg.derive(g, outputs={"x": bg.displacement("k.C"), "v": bg.flow("v")})
@@ -165,7 +165,7 @@ def test_mat_and_json_carry_the_units(tmp_path):
     import scipy.io
 
     from bondgraph.export import load_json
-    from bondgraph.units import export_json_with_units, export_mat_with_units, model_units
+    from bondgraph.library.units import export_json_with_units, export_mat_with_units, model_units
 
     g = _msd()
     model = bg.derive(g, outputs={"x": bg.displacement("k.C"), "v": bg.flow("v")})

@@ -1,6 +1,6 @@
 """The dimensional check: bond domains, unit-carrying values, every relation's units.
 
-See :mod:`bondgraph.units` for the choices (sympy.physics.units) and an example.
+See :mod:`bondgraph.library.units` for the choices (sympy.physics.units) and an example.
 
 Examples
 --------
@@ -21,11 +21,11 @@ from typing import Any, Mapping, Optional, Sequence, Union
 import sympy
 import sympy.physics.units as u
 
-from ..errors import BondGraphError
-from ..flatten import FlatGraph, flatten
-from ..graph import BondGraph, walk
-from ..elements.protocol import Element, LocalVariables
-from ..signals import t as T_SYM
+from ...errors import BondGraphError
+from ...flatten import FlatGraph, flatten
+from ...graph import BondGraph, walk
+from ...elements.protocol import Element, LocalVariables
+from ...signals import t as T_SYM
 from ._dims import ZERO, Dim, Mismatch, Unknown, dims_of, si_value, text, unit_dims
 
 __all__ = ["Domain", "DOMAINS", "UnitError", "UnitReport", "bond_domains", "check_units",
@@ -288,7 +288,7 @@ def check_units(graph: Union[BondGraph, FlatGraph], values: Mapping[str, Any], *
         Naming the element, the parameter, the unit of its value and the unit
         its bond's domain needs (or the relation and both dimensions).
     """
-    from ..causality import assign_causality
+    from ...causality import assign_causality
 
     flat = graph if isinstance(graph, FlatGraph) else flatten(graph)
     doms = bond_domains(graph, domains=domains)

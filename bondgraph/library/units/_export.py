@@ -10,7 +10,7 @@ Examples
 --------
 >>> import tempfile, os, scipy.io
 >>> from bondgraph.numeric import NumericStateSpace
->>> from bondgraph.units._dims import unit_dims
+>>> from bondgraph.library.units._dims import unit_dims
 >>> import sympy.physics.units as u
 >>> ss = NumericStateSpace([[-1.0]], [[1.0]], [[1.0]], [[0.0]], ("q",), ("V",), ("vC",), {}, "rc")
 >>> dims = {"q": unit_dims(u.coulomb), "V": unit_dims(u.volt), "vC": unit_dims(u.volt)}
@@ -25,9 +25,9 @@ from __future__ import annotations
 
 from typing import Mapping
 
-from .._support.files import PathLike
-from ..export import export_json, export_mat
-from ..numeric import NumericStateSpace
+from ..._support.files import PathLike
+from ...export import export_json, export_mat
+from ...numeric import NumericStateSpace
 from ._dims import Dim, text
 
 __all__ = ["export_mat_with_units", "export_json_with_units"]
@@ -35,7 +35,7 @@ __all__ = ["export_mat_with_units", "export_json_with_units"]
 
 def export_mat_with_units(plant: NumericStateSpace, path: PathLike, dims: Mapping[str, Dim]) -> None:
     """:func:`bondgraph.export.export_mat` with the units of ``dims``
-    (:func:`bondgraph.units.model_units`'s mapping)."""
+    (:func:`bondgraph.library.units.model_units`'s mapping)."""
     export_mat(plant, path, units={n: text(d) for n, d in dims.items()})
 
 

@@ -36,7 +36,7 @@ Examples
 >>> check_units(g, dict(values, b=4 * u.newton / u.meter), domains={"F": "translation"})
 Traceback (most recent call last):
 ...
-bondgraph.units.check.UnitError: R:b, parameter b: its value has the unit newton/meter (newton/meter), but its translation bond 4 needs newton*second/meter (effort newton, flow meter/second)
+bondgraph.library.units.check.UnitError: R:b, parameter b: its value has the unit newton/meter (newton/meter), but its translation bond 4 needs newton*second/meter (effort newton, flow meter/second)
 """
 
 from .check import (DOMAINS, Domain, UnitError, UnitReport, bond_domains, check_units, si_values,

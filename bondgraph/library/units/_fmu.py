@@ -29,9 +29,9 @@ from typing import Any, Mapping, Optional, Union
 
 import sympy
 
-from ..graph import BondGraph
-from ..model import Model
-from ..signals import t as T_SYM
+from ...graph import BondGraph
+from ...model import Model
+from ...signals import t as T_SYM
 import sympy.physics.units as u
 
 from ._dims import Dim, Mismatch, Unknown, dims_of, si_value, text, unit_dims
@@ -45,7 +45,7 @@ def model_units(model: Model, graph: BondGraph, values: Mapping[str, Any], *,
                 domains: Optional[Mapping] = None) -> dict[str, Dim]:
     """Dimensions of the model's states, inputs and outputs, and of unit-carrying parameters.
 
-    Runs :func:`bondgraph.units.check_units` on ``graph`` (so a wrong unit is
+    Runs :func:`bondgraph.library.units.check_units` on ``graph`` (so a wrong unit is
     refused here too); an output whose dimension cannot be known (a
     parameter without units in it) is left out.
     """
@@ -134,10 +134,10 @@ def export_fmu_with_units(model: Model, path: Union[str, "os.PathLike[str]"], *,
 
     ``fmi``, ``kind``, ``step``, ``binary`` and ``cc`` are those of
     :func:`bondgraph.fmu.build_fmu`; ``graph`` and ``domains`` those of
-    :func:`bondgraph.units.check_units`.  The file is written all or nothing.
+    :func:`bondgraph.library.units.check_units`.  The file is written all or nothing.
     """
-    from .._support.files import atomic_write
-    from ..fmu import FMUError, build_fmu
+    from ..._support.files import atomic_write
+    from ...fmu import FMUError, build_fmu
     from .check import si_values
 
     p = Path(os.fspath(path))
