@@ -55,7 +55,8 @@ JSON, format ``bondgraph-statespace`` version 1
     Matrices are row-major nested lists of finite numbers (JSON has no NaN or
     infinity: a plant with such entries cannot be written); a matrix with no
     rows is ``[]``.  :func:`load_json` reads the format back and checks every
-    field (``model`` and ``parameters`` may be left out; any other key
+    field (``model``, ``parameters`` and ``units`` -- signal name -> unit text,
+    written by :mod:`bondgraph.library.units` -- may be left out; any other key
     missing, an unknown key, a repeated key or another version is refused).
     JSON stays dense (the format any reader can take as is): a sparse plant
     is written with its matrices expanded when it has at most
@@ -83,7 +84,7 @@ from __future__ import annotations
 import json
 import os
 from pathlib import Path
-from typing import Any, Callable, Optional, Sequence
+from typing import Any, Callable, Mapping, Optional, Sequence
 
 import numpy as np
 
@@ -153,7 +154,8 @@ def _check_exportable(plant: NumericStateSpace) -> None:
             f"{', '.join(plant.state_names)}; export is refused rather than mislabelled")
 
 
-def export_mat(plant: NumericStateSpace, path: PathLike) -> None:
+def export_mat(plant: NumericStateSpace, path: PathLike, *,
+               units: Optional[Mapping[str, str]] = None) -> None:
     """Write a MATLAB/Octave ``.mat`` file (see the module docstring for its variables).
 
     Parameters
@@ -162,6 +164,10 @@ def export_mat(plant: NumericStateSpace, path: PathLike) -> None:
         The plant to write.
     path : str or path-like
         The file to write (replaced whole if it exists).
+    units : mapping of str to str, optional
+        Signal name -> unit text (:func:`bondgraph.library.units.model_units`); adds the
+        cell arrays ``state_units``, ``input_units`` and ``output_units``
+        (``''`` where a name has none).
 
     Raises
     ------
@@ -185,6 +191,10 @@ def export_mat(plant: NumericStateSpace, path: PathLike) -> None:
     import scipy.io
 
     data = _mat_dict(_check_plant(plant))
+    if units is not None:
+        for key, names in (("state_units", plant.state_names), ("input_units", plant.input_names),
+                           ("output_units", plant.output_names)):
+            data[key] = _cell([str(units.get(n, "")) for n in names])
     atomic_write(path, lambda fh: scipy.io.savemat(fh, data, format="5", long_field_names=False,
                                                    do_compression=False, oned_as="row"))
 
@@ -372,7 +382,8 @@ def _json_text(doc: dict[str, Any]) -> str:
     return "{\n" + ",\n".join(parts) + "\n}\n"
 
 
-def export_json(plant: NumericStateSpace, path: PathLike) -> None:
+def export_json(plant: NumericStateSpace, path: PathLike, *,
+                units: Optional[Mapping[str, str]] = None) -> None:
     """Write the JSON format ``bondgraph-statespace`` version 1 (module docstring).
 
     Parameters
@@ -381,6 +392,9 @@ def export_json(plant: NumericStateSpace, path: PathLike) -> None:
         The plant to write.
     path : str or path-like
         The file to write (replaced whole if it exists).
+    units : mapping of str to str, optional
+        Signal name -> unit text, written as the optional key ``"units"``
+        (for the plant's states, inputs and outputs).
 
     Raises
     ------
@@ -404,6 +418,9 @@ def export_json(plant: NumericStateSpace, path: PathLike) -> None:
     """
     _check_exportable(plant)
     doc = to_json_dict(plant)
+    if units is not None:
+        doc["units"] = {n: str(units[n]) for n in (*doc["states"], *doc["inputs"], *doc["outputs"])
+                        if n in units}
     where = os.fspath(target_path(path))
     for key in ("A", "B", "C", "D"):
         matrix = getattr(plant, key)
@@ -472,8 +489,8 @@ def load_json(path: PathLike) -> NumericStateSpace:
 
 #: keys of the JSON document; ``model`` and ``parameters`` may be left out
 _JSON_KEYS = ("format", "version", "model", "states", "inputs", "outputs", "A", "B", "C", "D",
-              "parameters")
-_JSON_OPTIONAL = ("model", "parameters")
+              "parameters", "units")
+_JSON_OPTIONAL = ("model", "parameters", "units")
 
 
 def _plant_from_document(doc: Any, where: str) -> NumericStateSpace:
@@ -511,6 +528,9 @@ def _plant_from_document(doc: Any, where: str) -> NumericStateSpace:
     if not isinstance(params_doc, dict):
         raise fail(f'"parameters" must be an object of names to numbers; got '
                    f"{type(params_doc).__name__} {short_repr.repr(params_doc)}")
+    units_doc = doc.get("units", {})
+    if not isinstance(units_doc, dict) or not all(isinstance(v, str) for v in units_doc.values()):
+        raise fail(f'"units" must be an object of names to unit texts; got {short_repr.repr(units_doc)}')
     params = {}
     for key, value in params_doc.items():
         problem = number_problem(value)

@@ -518,6 +518,17 @@ class Element:
         power-conjugate to it (``('f_V', -bg.flow('V'))`` for an ``Se``)."""
         return None
 
+    # ------------------------------------------------------------ units
+    def domain_groups(self, count: int) -> tuple[tuple[int, ...], ...]:
+        """Groups of ports whose bonds share one physical domain (:mod:`bondgraph.library.units`):
+        all ``count`` ports by default; a TF or GY may join two domains."""
+        return (tuple(range(count)),)
+
+    def fixed_domains(self, into: Sequence[bool]) -> dict[int, str]:
+        """Ports whose domain the element itself fixes (a chemical species: ``'chemical'``),
+        given whether each port's bond points into it; empty by default."""
+        return {}
+
     # ------------------------------------------------------------ drawing
     def drawing_label(self) -> tuple[str, str]:
         """The drawn text and the small note beside it."""

@@ -107,6 +107,9 @@ class TwoPort(Element):
     def conserves_power(self) -> bool:
         return self.efficiency == 1
 
+    def domain_groups(self, count: int) -> tuple[tuple[int, ...], ...]:
+        return ((0,), (1,))      # a TF or GY may change the domain
+
     # the protocol: port 1 is the bond into the element, port 2 the bond out
     #: a gyrator (GY, MGY) turns flow into effort; a transformer passes effort through
     gyrating: ClassVar[bool] = False

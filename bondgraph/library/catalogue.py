@@ -1,0 +1,169 @@
+"""The component catalogue: checks, pictures and the documentation page of the library.
+
+:func:`check_component` is the sub-model check every library component
+passes (its declared ports are its ports, each port's domain is declared, it
+has a law, a reference and a drawing label, and it draws);
+:func:`component_svg` draws a component's inside with its ports as labelled
+terminals; :func:`write_catalogue` writes ``docs/guide/library.md`` and one
+SVG per component (``docs/img/library/``), generated from the classes (run
+``python -m bondgraph.library.catalogue docs``).
+
+Examples
+--------
+>>> from bondgraph.library.mechanical import Gear
+>>> check_component(Gear)
+'mechanical.Gear: ports a, b (rotation, rotation)'
+>>> "Port:a" in component_svg(Gear("gear"))
+True
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import ClassVar, Optional, Union
+
+from ..errors import ModelStructureError
+from ..graph import BondGraph
+from ..elements.protocol import Element
+from ._component import CATALOGUE, Component
+
+__all__ = ["DOMAINS", "check_component", "component_svg", "catalogue_markdown", "write_catalogue",
+           "load_all"]
+
+#: the library's modules, in catalogue order
+MODULES = ("electrical", "mechanical", "hydraulic", "thermal", "electromechanical")
+#: the domains a component port may have
+DOMAINS = ("electrical", "translation", "rotation", "hydraulic", "thermal", "thermal (entropy)",
+           "chemical")
+
+
+def load_all() -> dict[str, type[Component]]:
+    """Import every library module and return the catalogue (qualified name -> class)."""
+    for mod in MODULES:
+        importlib.import_module(f"{__package__}.{mod}")
+    return dict(CATALOGUE)
+
+
+@dataclass(frozen=True, eq=False)
+class _Terminal(Element):
+    """A component's port drawn as a terminal (drawing only)."""
+
+    kind: ClassVar[str] = "Port"
+    drawing_role: ClassVar[str] = "source"
+
+
+def _display(comp: BondGraph) -> BondGraph:
+    """A copy of ``comp`` whose ports are terminals, so it can be drawn on its own."""
+    g = BondGraph(comp.name)
+    g.add(*(_Terminal(el.name) if el.name in comp.ports else el for el in comp.elements))
+    for b in comp.bonds:
+        g.connect(b.tail, b.head)
+    return g
+
+
+def component_svg(comp: BondGraph) -> str:
+    """The SVG drawing of a component's inside (no causality), ports as ``Port:<name>``."""
+    from ..drawing import draw
+
+    return draw(_display(comp), causality=False)
+
+
+def _qualified(cls: type[Component]) -> str:
+    return f"{cls.__module__.rsplit('.', 1)[-1]}.{cls.__name__}"
+
+
+def check_component(cls: type[Component], comp: Optional[Component] = None) -> str:
+    """Check one component class (built with its defaults unless ``comp`` is given).
+
+    Raises
+    ------
+    ModelStructureError
+        Naming the component and what is missing or inconsistent.
+    """
+    name = _qualified(cls)
+    comp = cls("c") if comp is None else comp
+    problems = []
+    if comp.ports != tuple(comp.port_names):
+        problems.append(f"ports {comp.ports} differ from the declared {comp.port_names}")
+    for port in comp.ports:
+        dom = comp.port_domains.get(port)
+        if dom not in DOMAINS:
+            problems.append(f"port {port!r} has domain {dom!r}; expected one of {DOMAINS}")
+    for attr in ("law", "reference", "symbol", "domain"):
+        if not getattr(cls, attr):
+            problems.append(f"no {attr}")
+    if not (cls.__doc__ or "").strip() or "Examples" not in (cls.__doc__ or ""):
+        problems.append("no docstring with Examples")
+    if problems:
+        raise ModelStructureError(f"component {name}: " + "; ".join(problems))
+    if "<svg" not in component_svg(comp):
+        raise ModelStructureError(f"component {name}: its drawing is empty")
+    doms = ", ".join(comp.port_domains[p] for p in comp.ports)
+    return f"{name}: ports {', '.join(comp.ports)} ({doms})"
+
+
+def catalogue_markdown(pictures: str = "../img/library") -> str:
+    """The catalogue page (Markdown, MyST), one section per module and component."""
+    load_all()
+    lines = ["# Component library", "",
+             "Generated from the classes of `bondgraph.library` by "
+             "`python -m bondgraph.library.catalogue docs`; do not edit by hand.", "",
+             "Each component is a sub-model: add it to a graph and connect its ports as "
+             "`'name.port'`. Parameters not given default to the positive symbol "
+             "`<name>_<parameter>`. The chemical domain (`bondgraph.library.chemical`) is "
+             "elements and a reaction-network builder rather than components; see its "
+             "module documentation.", "",
+             "```pycon", ">>> from bondgraph.library.mechanical import Gear",
+             ">>> Gear(\"gb\", ratio=14)[\"n\"].modulus      # an N:1 reduction is TF(1/N)",
+             "1/14", "```", ""]
+    by_module: dict[str, list[type[Component]]] = {}
+    for key, cls in CATALOGUE.items():
+        by_module.setdefault(key.split(".")[0], []).append(cls)
+    for mod in MODULES:
+        module = sys.modules[f"{__package__}.{mod}"]
+        lines += [f"## {mod.capitalize()}", "", f"`bondgraph.library.{mod}`", ""]
+        first = (module.__doc__ or "").strip().split("\n\n")[0]
+        lines += [first, ""]
+        for cls in by_module.get(mod, []):
+            comp = cls("c")
+            ports = ", ".join(f"`{p}` ({comp.port_domains[p]})" for p in comp.ports)
+            summary = (cls.__doc__ or "").strip().split("\n")[0]
+            lines += [f"### {cls.__name__}", "", summary, "",
+                      f"- **Law**: `{cls.law}`", f"- **Ports**: {ports}",
+                      f"- **Drawing label**: `{cls.symbol}`", f"- **Source**: {cls.reference}", "",
+                      f"![{cls.__name__}]({pictures}/{mod}.{cls.__name__}.svg)", ""]
+    return "\n".join(lines)
+
+
+def write_catalogue(directory: Union[str, os.PathLike]) -> list[Path]:
+    """Write ``guide/library.md`` and ``img/library/<module>.<Component>.svg`` under the
+    documentation ``directory``.
+
+    Every file is written to a temporary name and renamed, so a failure
+    leaves no half-written page.
+    """
+    out = Path(directory)
+    pics = out / "img" / "library"
+    pics.mkdir(parents=True, exist_ok=True)
+    written = []
+    for key, cls in load_all().items():
+        written.append(_atomic(pics / f"{key}.svg", component_svg(cls("c"))))
+    (out / "guide").mkdir(parents=True, exist_ok=True)
+    written.append(_atomic(out / "guide" / "library.md", catalogue_markdown()))
+    return written
+
+
+def _atomic(path: Path, text: str) -> Path:
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(text, encoding="utf-8")
+    os.replace(tmp, path)
+    return path
+
+
+if __name__ == "__main__":      # pragma: no cover - the docs build step
+    for p in write_catalogue(sys.argv[1] if len(sys.argv) > 1 else "docs"):
+        print(p)

@@ -1,0 +1,409 @@
+"""Mechanical components: translation (N, m/s) and rotation (N m, rad/s).
+
+Velocities are common at 1-junctions, so the parent graph's nodes are
+1-junctions (one per body or shaft).  A body (:class:`Mass`,
+:class:`Inertia`) has one port ``p``.  Two-terminal components
+(:class:`Spring`, :class:`Damper`, their rotary forms) put their element on a
+0-junction between ports ``a`` and ``b``: the force is common, the velocity
+across is ``v_a - v_b`` (connect ``b`` to a :class:`Fixed` for a spring to
+the ground, or use the one-port ``grounded=True`` form).  Transmissions
+(:class:`Gear`, :class:`Lever`, :class:`RackPinion`, :class:`Belt`) are
+``TF`` two-ports from the driving port ``a`` to the driven port ``b``.
+Laws: Karnopp, Margolis and Rosenberg, *System Dynamics*, 5th ed., Ch. 3
+and 4 (and Modelica's ``Mechanics.Translational``/``Rotational``).
+
+Examples
+--------
+A mass on a spring to the ground, ``x/F = 1/(m s^2 + k)``:
+
+>>> import bondgraph as bg
+>>> g = bg.BondGraph("msd")
+>>> g.add(ForceSource("F"), Mass("m", mass="m"), Spring("k", stiffness="k", grounded=True),
+...       bg.One("v"))
+>>> for t, h in [("F.p", "v"), ("v", "m.p"), ("v", "k.a")]:
+...     _ = g.connect(t, h)
+>>> model = bg.derive(g, outputs={"x": bg.displacement("v")})
+>>> import sympy
+>>> sympy.cancel(model.transfer_function().expr)
+1/(k + m*s**2)
+"""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+from ..elements import C, I, Port, R, Se, Sf, TF, Zero
+from .._support.sympify import ParameterLike
+from ._component import Component
+
+__all__ = ["Mass", "Spring", "Damper", "ForceSource", "VelocitySource", "Fixed", "Inertia",
+           "TorsionSpring", "RotaryDamper", "TorqueSource", "Gear", "Lever", "RackPinion", "Belt"]
+
+_KMR = "Karnopp, Margolis and Rosenberg, System Dynamics, 5th ed., Ch. 3 and 4"
+
+
+class _Body(Component):
+    port_names: tuple[str, ...] = ("p",)
+    reference: ClassVar[str] = _KMR
+    symbol: ClassVar[str] = "I"
+    what: ClassVar[str] = "mass"
+
+    def __init__(self, name: str, value: ParameterLike) -> None:
+        self._value = value
+        super().__init__(name)
+
+    def build(self) -> None:
+        self.add(Port("p"), I("I", self.param(self._value, self.what)))
+        self.connect("p", "I")
+
+
+class Mass(_Body):
+    """A rigid body in translation, ``v = p/m``, ``dp/dt = F``; state the momentum ``p_<name>.I``.
+
+    Examples
+    --------
+    >>> Mass("cart", mass=2)["I"].parameter
+    2
+    """
+
+    domain = "translation"
+    port_domains = {"p": "translation"}
+    law = "v = p / m,  dp/dt = F"
+
+    def __init__(self, name: str, *, mass: ParameterLike = None) -> None:
+        super().__init__(name, mass)
+
+
+class Inertia(_Body):
+    """A rigid body in rotation, ``omega = h/J``, ``dh/dt = tau``.
+
+    Examples
+    --------
+    >>> Inertia("rotor", inertia=0.1)["I"].parameter
+    0.100000000000000
+    """
+
+    domain = "rotation"
+    port_domains = {"p": "rotation"}
+    law = "omega = h / J,  dh/dt = tau"
+    what = "inertia"
+
+    def __init__(self, name: str, *, inertia: ParameterLike = None) -> None:
+        super().__init__(name, inertia)
+
+
+class _Coupling(Component):
+    """An element on a 0-junction between ``a`` and ``b``, or on ``a`` alone if grounded."""
+
+    reference: ClassVar[str] = _KMR
+    what: ClassVar[str] = ""
+
+    def __init__(self, name: str, value: ParameterLike, grounded: bool) -> None:
+        self._value, self._grounded = value, grounded
+        super().__init__(name)
+
+    def element(self, value):
+        raise NotImplementedError
+
+    def build(self) -> None:
+        el = self.element(self.param(self._value, self.what))
+        if self._grounded:
+            self.add(Port("a"), el)
+            self.connect("a", el.name)
+            self.port_names = ("a",)          # an instance's own (one-port) form
+            return
+        self.add(Port("a"), Port("b"), Zero("F"), el)
+        self.connect("a", "F")
+        self.connect("F", "b")
+        self.connect("F", el.name)
+
+
+class Spring(_Coupling):
+    """A linear spring, ``F = k (x_a - x_b)``; state its deflection ``q_<name>.C``.
+
+    ``grounded=True`` ties ``b`` to the ground: one port ``a``.
+
+    Examples
+    --------
+    >>> Spring("k1", stiffness=100).ports, Spring("k2", grounded=True).ports
+    (('a', 'b'), ('a',))
+    """
+
+    domain = "translation"
+    port_names = ("a", "b")
+    port_domains = {"a": "translation", "b": "translation"}
+    law = "F = k x,  dx/dt = v_a - v_b"
+    symbol = "C"
+    what = "stiffness"
+
+    def __init__(self, name: str, *, stiffness: ParameterLike = None, grounded: bool = False) -> None:
+        super().__init__(name, stiffness, grounded)
+
+    def element(self, value):
+        return C("C", stiffness=value)
+
+
+class Damper(_Coupling):
+    """A viscous damper, ``F = b (v_a - v_b)``.
+
+    Examples
+    --------
+    >>> Damper("b1", damping=3)["R"].parameter
+    3
+    """
+
+    domain = "translation"
+    port_names = ("a", "b")
+    port_domains = {"a": "translation", "b": "translation"}
+    law = "F = b (v_a - v_b)"
+    symbol = "R"
+    what = "damping"
+
+    def __init__(self, name: str, *, damping: ParameterLike = None, grounded: bool = False) -> None:
+        super().__init__(name, damping, grounded)
+
+    def element(self, value):
+        return R("R", value)
+
+
+class TorsionSpring(Spring):
+    """A torsion spring, ``tau = k (theta_a - theta_b)``.
+
+    Examples
+    --------
+    >>> TorsionSpring("shaft", stiffness=50).domain
+    'rotation'
+    """
+
+    domain = "rotation"
+    port_domains = {"a": "rotation", "b": "rotation"}
+    law = "tau = k theta,  dtheta/dt = omega_a - omega_b"
+
+
+class RotaryDamper(Damper):
+    """Viscous rotary friction, ``tau = b (omega_a - omega_b)``.
+
+    Examples
+    --------
+    >>> RotaryDamper("bearing", damping=1e-4, grounded=True).ports
+    ('a',)
+    """
+
+    domain = "rotation"
+    port_domains = {"a": "rotation", "b": "rotation"}
+    law = "tau = b (omega_a - omega_b)"
+
+
+class _Source(Component):
+    port_names: tuple[str, ...] = ("p",)
+    reference: ClassVar[str] = _KMR
+    source: ClassVar[type] = Se
+    inner: ClassVar[str] = "F"
+
+    def __init__(self, name: str, *, value: ParameterLike = None) -> None:
+        self._value = value
+        super().__init__(name)
+
+    def build(self) -> None:
+        self.add(self.source(self.inner, value=self._value), Port("p"))
+        self.connect(self.inner, "p")
+
+
+class ForceSource(_Source):
+    """A force applied at port ``p``: the input ``F``, or ``value`` (gravity ``m g``, a
+    function of time).
+
+    Examples
+    --------
+    >>> ForceSource("push").ports
+    ('p',)
+    """
+
+    domain = "translation"
+    port_domains = {"p": "translation"}
+    law = "F = F_s (an effort source)"
+    symbol = "Se"
+
+
+class TorqueSource(_Source):
+    """A torque applied at port ``p``: the input ``tau``, or ``value``.
+
+    Examples
+    --------
+    >>> TorqueSource("motor", value=0.5)["tau"].value
+    0.500000000000000
+    """
+
+    domain = "rotation"
+    port_domains = {"p": "rotation"}
+    law = "tau = tau_s (an effort source)"
+    symbol = "Se"
+    inner = "tau"
+
+
+class VelocitySource(_Source):
+    """A prescribed velocity at port ``p``: the input ``v``, or ``value``.
+
+    Examples
+    --------
+    >>> VelocitySource("shaker").ports
+    ('p',)
+    """
+
+    domain = "translation"
+    port_domains = {"p": "translation"}
+    law = "v = v_s (a flow source)"
+    symbol = "Sf"
+    source = Sf
+    inner = "v"
+
+
+class Fixed(Component):
+    """The ground: zero velocity at port ``p`` (an ``Sf`` of value 0).
+
+    Examples
+    --------
+    >>> Fixed("wall")["v0"].value
+    0
+    """
+
+    domain = "translation"
+    port_names = ("p",)
+    port_domains = {"p": "translation"}
+    law = "v = 0"
+    reference = _KMR
+    symbol = "Sf:0"
+
+    def build(self) -> None:
+        self.add(Sf("v0", value=0), Port("p"))
+        self.connect("p", "v0")
+
+
+class _Transmission(Component):
+    port_names: tuple[str, ...] = ("a", "b")
+    reference: ClassVar[str] = _KMR + " (Sec. 4.2, transformers)"
+    symbol: ClassVar[str] = "TF"
+
+    def __init__(self, name: str, modulus, efficiency: ParameterLike) -> None:
+        self._modulus, self._efficiency = modulus, efficiency
+        super().__init__(name)
+
+    def build(self) -> None:
+        self.add(Port("a"), Port("b"), TF("n", self._modulus, efficiency=self._efficiency))
+        self.connect("a", "n")
+        self.connect("n", "b")
+
+
+class Gear(_Transmission):
+    """A gear pair of reduction ratio ``N:1``: the driven shaft ``b`` turns ``N`` times
+    slower than the driving shaft ``a``, with ``N`` times its torque.
+
+    ``omega_b = omega_a / N`` and ``tau_b = eta N tau_a``: a ``TF`` of modulus
+    ``1/N`` from ``a`` to ``b`` (``TF(n)`` has ``f2 = n f1``, so a raw
+    ``TF(N)`` would be an ``N``-fold *speed-up*).  ``N < 1`` is an
+    overdrive.  ``efficiency`` ``eta`` (default 1) scales the torque
+    delivered, as on gearbox data sheets.
+
+    Parameters
+    ----------
+    name : str
+    ratio : keyword only
+        ``N`` (teeth of the driven gear over teeth of the driving one).
+    efficiency : optional, keyword only
+
+    Examples
+    --------
+    >>> gb = Gear("gearbox", ratio=14)
+    >>> gb["n"].modulus
+    1/14
+    """
+
+    domain = "rotation"
+    port_domains = {"a": "rotation", "b": "rotation"}
+    law = "omega_b = omega_a / N,  tau_b = eta N tau_a  (N:1 reduction)"
+
+    def __init__(self, name: str, *, ratio: ParameterLike = None,
+                 efficiency: ParameterLike = None) -> None:
+        self._ratio = ratio
+        super().__init__(name, None, efficiency)
+
+    def build(self) -> None:
+        self._modulus = 1 / self.param(self._ratio, "ratio")
+        super().build()
+
+
+class Lever(_Transmission):
+    """A rigid lever on a fixed pivot: arm ``l_a`` at port ``a``, ``l_b`` at port ``b``.
+
+    ``v_b = (l_b/l_a) v_a``, ``F_b = (l_a/l_b) F_a`` (small rotations; the
+    ends move in opposite directions, the sign kept in the arms' convention).
+
+    Examples
+    --------
+    >>> Lever("pedal", arm_a=0.3, arm_b=0.05)["n"].modulus
+    0.166666666666667
+    """
+
+    domain = "translation"
+    port_domains = {"a": "translation", "b": "translation"}
+    law = "v_b = (l_b / l_a) v_a,  F_b = (l_a / l_b) F_a"
+
+    def __init__(self, name: str, *, arm_a: ParameterLike = None,
+                 arm_b: ParameterLike = None) -> None:
+        self._arms = (arm_a, arm_b)
+        super().__init__(name, None, None)
+
+    def build(self) -> None:
+        self._modulus = self.param(self._arms[1], "arm_b") / self.param(self._arms[0], "arm_a")
+        super().build()
+
+
+class RackPinion(_Transmission):
+    """A pinion of radius ``r`` on shaft ``a`` driving a rack ``b``: ``v = r omega``, ``tau = r F``.
+
+    Examples
+    --------
+    >>> rp = RackPinion("steering", radius=0.01)
+    >>> rp.port_domains["a"], rp.port_domains["b"], rp["n"].modulus
+    ('rotation', 'translation', 0.0100000000000000)
+    """
+
+    domain = "rotation -> translation"
+    port_domains = {"a": "rotation", "b": "translation"}
+    law = "v_b = r omega_a,  tau_a = r F_b"
+
+    def __init__(self, name: str, *, radius: ParameterLike = None,
+                 efficiency: ParameterLike = None) -> None:
+        self._radius = radius
+        super().__init__(name, None, efficiency)
+
+    def build(self) -> None:
+        self._modulus = self.param(self._radius, "radius")
+        super().build()
+
+
+class Belt(_Transmission):
+    """A rigid belt (or chain) from pulley ``a`` (radius ``r_a``) to pulley ``b`` (``r_b``).
+
+    No slip: ``r_a omega_a = r_b omega_b``, so ``omega_b = (r_a/r_b) omega_a``
+    and ``tau_b = (r_b/r_a) tau_a``.
+
+    Examples
+    --------
+    >>> Belt("drive", radius_a=0.05, radius_b=0.2)["n"].modulus
+    0.250000000000000
+    """
+
+    domain = "rotation"
+    port_domains = {"a": "rotation", "b": "rotation"}
+    law = "omega_b = (r_a / r_b) omega_a,  tau_b = (r_b / r_a) tau_a"
+
+    def __init__(self, name: str, *, radius_a: ParameterLike = None,
+                 radius_b: ParameterLike = None, efficiency: ParameterLike = None) -> None:
+        self._radii = (radius_a, radius_b)
+        super().__init__(name, None, efficiency)
+
+    def build(self) -> None:
+        self._modulus = (self.param(self._radii[0], "radius_a") /
+                         self.param(self._radii[1], "radius_b"))
+        super().build()
