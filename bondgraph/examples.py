@@ -5,15 +5,15 @@ symbolic parameters named after the elements, so a docstring example starts
 with one line and shows only its point.  The README and the user guide keep
 the full constructions.
 
-=====================  ==========================================================
-function               graph
-=====================  ==========================================================
-:func:`rc`             ``Se:V`` -> 1 -> ``R:R``, ``C:C`` (series RC)
-:func:`rl`             ``Se:V`` -> 1 -> ``R:R``, ``I:L`` (series RL)
-:func:`dc_motor`       ``Se:V`` -> 1 (``R:Ra``, ``I:La``) -> ``GY:K`` -> 1 (``I:J``, ``R:b``)
-:func:`mass_spring_damper`  ``Se:F`` -> 1 -> ``I:m``, ``R:b``, ``C:k`` (stiffness ``k``)
-:func:`free_mass`      ``Se:F`` -> ``I:m``
-=====================  ==========================================================
+============================  =====================================================================
+function                      graph
+============================  =====================================================================
+:func:`rc`                    ``Se:V`` -> 1 -> ``R:R``, ``C:C`` (series RC)
+:func:`rl`                    ``Se:V`` -> 1 -> ``R:R``, ``I:L`` (series RL)
+:func:`dc_motor`              ``Se:V`` -> 1 (``R:Ra``, ``I:La``) -> ``GY:K`` -> 1 (``I:J``, ``R:b``)
+:func:`mass_spring_damper`    ``Se:F`` -> 1 -> ``I:m``, ``R:b``, ``C:k`` (stiffness ``k``)
+:func:`free_mass`             ``Se:F`` -> ``I:m``
+============================  =====================================================================
 
 Examples
 --------

@@ -618,8 +618,9 @@ def simulate(model: Union[StateEquations, NumericDynamics], values: ParameterVal
         raise SimulationError(f"model {dyn.name!r}: the {label} solver failed: scipy raised "
                               f"{type(exc).__name__}: {exc}") from exc
     if sol.status < 0:
+        reached = np.asarray(sol.t, dtype=float)     # a list when t_eval was given
         raise SimulationError(f"model {dyn.name!r}: the {label} solver failed at t = "
-                              f"{sol.t[-1] if sol.t.size else t0:g}: {sol.message}")
+                              f"{reached[-1] if reached.size else t0:g}: {sol.message}")
     t = np.asarray(sol.t, dtype=float)
     x = np.asarray(sol.y, dtype=float).reshape(len(dyn.state_names), t.size)
     _check_history(dyn, t, x, dyn.state_names, "state")
