@@ -247,12 +247,24 @@ def cmd_draw(args) -> None:
             raise
         raise CLIError("drawing needs bondgraph.drawing (not available in this installation)") from None
     # drawn here and written through atomic_write, so that a failure names the target file
-    scene = drawing.build_scene(drawing.diagram(defn.graph, causality=not args.no_causality))
+    diag = drawing.diagram(defn.graph, causality=not args.no_causality)
+    if getattr(args, "no_prefixes", False):
+        from ..drawing.labels import without_prefixes
+        diag = without_prefixes(diag)
+    max_width = getattr(args, "max_width", 17.0)
+    font_pt = getattr(args, "font_pt", 8.0)
+    if not (font_pt > 0 and max_width >= 0):
+        raise CLIError(f"--font-pt must be positive and --max-width at least 0; got {font_pt:g} "
+                       f"and {max_width:g}")
+    scene = drawing.build_scene(diag, max_width=max_width or None, font_pt=font_pt,
+                                title=not getattr(args, "no_title", False),
+                                numbers=not getattr(args, "no_numbers", False),
+                                latex=getattr(args, "latex", False))
     if kind == "svg":
         data = drawing.scene_to_svg(scene).encode("utf-8")
         atomic_write(out, lambda fh: fh.write(data))
     elif kind == "tex":
-        data = drawing.scene_to_tikz(scene, standalone=not args.tikz_only).encode("ascii")
+        data = drawing.scene_to_tikz(scene, standalone=not args.tikz_only, font_pt=font_pt).encode("ascii")
         atomic_write(out, lambda fh: fh.write(data))
     else:
         atomic_write(out, lambda fh: drawing.write_png(scene, fh))
