@@ -290,8 +290,9 @@ def build_scene(diag: Diagram, *, wrap: int = 14, title: bool = True, numbers: b
     max_width : float, optional
         Width in cm the figure must fit when its labels are printed at
         ``font_pt`` points: the main path wraps into more, shorter rows
-        (``wrap`` lowered step by step down to 2) until it fits; the
-        narrowest layout is kept when none does.
+        (``wrap`` lowered step by step down to 2) until it fits with no bond
+        through a label (else the first that fits); the narrowest layout is
+        kept when none fits.
     font_pt : float
         Label size in points for ``max_width``.
     latex : bool
@@ -312,21 +313,25 @@ def build_scene(diag: Diagram, *, wrap: int = 14, title: bool = True, numbers: b
     """
     if max_width is None:
         return _build_scene(diag, wrap, title, numbers, latex)
-    from .geometry import printed_size
+    from .geometry import bonds_through_labels, printed_size
 
     if not (isinstance(max_width, (int, float)) and math.isfinite(max_width) and max_width > 0):
         from .source import DrawingError
         raise DrawingError(f"max_width must be a positive width in cm; got {max_width!r}")
-    best = None
-    for w in range(wrap, 1, -1):
+    best = fitting = None
+    w = wrap
+    while w >= 2:
         scene = _build_scene(diag, w, title, numbers, latex)
         width = printed_size(scene, font_pt=font_pt)[0]
         if width <= max_width:
-            return scene
+            if not bonds_through_labels(scene):
+                return scene
+            fitting = fitting or scene       # fits, but a bond runs through a label: try on
         if best is None or width < best[0]:
             best = (width, scene)
+        w -= 1       # (the width is not monotonic in the wrap: every one is tried)
     assert best is not None
-    return best[1]
+    return fitting or best[1]
 
 
 def _build_scene(diag: Diagram, wrap: int, title: bool, numbers: bool, latex: bool) -> Scene:
@@ -488,12 +493,16 @@ def _bond_shape(e, tail, head, shift: float, avoid: list[Box]) -> BondShape:
         L = math.hypot(bx - ax, by - ay)
         mid = ((ax + bx) / 2, (ay + by) / 2)
         best = None
-        for k in _BENDS:
-            c = (mid[0] + k * L * nx_, mid[1] + k * L * ny_)
-            hits = _crossed((ax, ay), c, (bx, by), others)
-            if best is None or hits < best[0]:
-                best = (hits, c)
-            if hits == 0:
+        # bends across the bond's middle first, then control points moved along it too
+        for along in (0.0, -0.3, 0.3):
+            for k in _BENDS:
+                c = (mid[0] + k * L * nx_ + along * L * ux, mid[1] + k * L * ny_ + along * L * uy)
+                hits = _crossed((ax, ay), c, (bx, by), others)
+                if best is None or hits < best[0]:
+                    best = (hits, c)
+                if hits == 0:
+                    break
+            if best is not None and best[0] == 0:
                 break
         if best is not None and best[0] < _crossed((ax, ay), None, (bx, by), others):
             ctrl = best[1]

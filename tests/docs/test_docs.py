@@ -168,7 +168,7 @@ def _check_offline(out: Path) -> None:
         return
     import html
 
-    script = ("const [dir, tex] = process.argv.slice(2);"
+    script = ("const [dir, tex] = process.argv.slice(1);"
               "require(dir + '/node-main.js').init({loader: {paths: {mathjax: dir},"
               " load: ['input/tex', 'output/chtml', 'adaptors/liteDOM']}})"
               ".then((MJ) => console.log(MJ.startup.adaptor.outerHTML(MJ.tex2chtml(tex))))"
