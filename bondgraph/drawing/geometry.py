@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import math
 
-from .scene import FONT, NUMBER_FONT, Scene, _polyline, _segment_hits_box, text_width
+from .scene import FONT, NUMBER_FONT, Scene, _cross_segments, _polyline, _segment_hits_box, text_width
 
 __all__ = ["bonds_through_labels", "bond_crossings", "printed_size", "CM_PER_PT"]
 
@@ -85,13 +85,6 @@ def _end_node(end: str, names: set) -> str:
     return head if head in names else end
 
 
-def _cross(p1, p2, q1, q2) -> bool:
-    def orient(a, b, c):
-        v = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
-        return 0 if abs(v) < 1e-9 else (1 if v > 0 else -1)
-    return (orient(p1, p2, q1) * orient(p1, p2, q2) < 0) and (orient(q1, q2, p1) * orient(q1, q2, p2) < 0)
-
-
 def bond_crossings(scene: Scene) -> list[tuple[int, int]]:
     """Pairs of bond numbers whose drawn lines cross (bonds sharing a node excluded)."""
     names = {lb.name for lb in scene.labels}
@@ -102,7 +95,7 @@ def bond_crossings(scene: Scene) -> list[tuple[int, int]]:
         for nb, eb, pb in shapes[i + 1:]:
             if ea & eb:
                 continue
-            if any(_cross(p, q, r, s) for p, q in zip(pa, pa[1:]) for r, s in zip(pb, pb[1:])):
+            if any(_cross_segments(p, q, r, s) for p, q in zip(pa, pa[1:]) for r, s in zip(pb, pb[1:])):
                 out.append((na, nb))
     return out
 

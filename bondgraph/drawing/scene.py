@@ -588,6 +588,14 @@ def _segment_hits_box(p: Point, q: Point, box: Box, shrink: float = 0.0) -> bool
     return True
 
 
+def _cross_segments(p1: Point, p2: Point, q1: Point, q2: Point) -> bool:
+    """Whether segments p1-p2 and q1-q2 cross at a point inside both (touching is not crossing)."""
+    def orient(a: Point, b: Point, c: Point) -> int:
+        v = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+        return 0 if abs(v) < 1e-9 else (1 if v > 0 else -1)
+    return (orient(p1, p2, q1) * orient(p1, p2, q2) < 0) and (orient(q1, q2, p1) * orient(q1, q2, p2) < 0)
+
+
 def _place_numbers(bonds: list[BondShape], avoid: list[Box]) -> list[BondShape]:
     """Bond numbers moved off every label, every other bond and the numbers placed before.
 

@@ -107,6 +107,9 @@ def test_200_random_graphs_have_no_bond_through_a_label():
         crossings += len(bond_crossings(sc))
     print(f"\n200 random graphs: {crossings} bond crossings in all")
     assert bad == {}
+    # Graphviz dot lays the same 200 graphs out with 43 crossings (bench/drawing_crossings.py,
+    # its spline control polygons counted the same way; ours were 47): at most 30 % more
+    assert crossings <= 56
 
 
 def test_options_title_prefixes_numbers():
