@@ -157,7 +157,7 @@ def latex_label(text: str) -> Optional[str]:
     >>> latex_label("I:m_1"), latex_label("R:link.b_2"), latex_label("1"), latex_label("R:a$b")
     ('I:$m_{1}$', 'R:$\\mathrm{link}.b_{2}$', None, None)
     """
-    from .._labels import latex_name
+    from .._support.labels import latex_name
 
     kind, sep, name = text.partition(":")
     if not sep or not _SAFE_NAME.match(name) or not re.fullmatch(r"[A-Za-z]+", kind):
