@@ -260,7 +260,7 @@ def write_landing_figures(out: Path) -> None:
 
     import numpy as np
 
-    from bondgraph.plots import bode
+    from bondgraph.drawing.plots import bode
 
     out.mkdir(parents=True, exist_ok=True)
     flexcam = bondgraph.load_model(ROOT / "models" / "flexcam.py")
