@@ -16,6 +16,12 @@ by git, rewritten only when they change, stale ones removed), so a new public
 module or a new name in an ``__all__`` appears with no edit here.  A module that
 needs an optional extra goes in :data:`OPTIONAL_MODULES`.
 
+Math is rendered by MathJax 3 copied into the site (``_static/mathjax``, from the
+``sphinx-mathjax-offline`` package): the site loads nothing from the network.  The
+landing page's figures (the FLEXCAM augmented bond graph and its Bode diagram) are
+drawn at every build by :func:`write_landing_figures` into ``docs/_generated/``
+(ignored by git), so they always show what the code draws.
+
 The five notebooks of ``notebooks/`` are rendered through the symlink
 ``docs/notebooks`` and executed at every build by myst-nb (a failing cell fails
 the build).
@@ -47,6 +53,8 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.doctest",
     "sphinx.ext.mathjax",
+    # MathJax 3 shipped with the site (copied to _static/mathjax): formulas render offline
+    "sphinx-mathjax-offline",
     "numpydoc",
     "myst_nb",
 ]
@@ -246,4 +254,27 @@ def _write_if_changed(path: Path, text: str) -> None:
     os.replace(tmp, path)
 
 
+def write_landing_figures(out: Path) -> None:
+    """Draw the landing page's FLEXCAM bond graph (SVG) and Bode diagram (SVG) into ``out``."""
+    import io
+
+    import numpy as np
+
+    from bondgraph.drawing.plots import bode
+
+    out.mkdir(parents=True, exist_ok=True)
+    flexcam = bondgraph.load_model(ROOT / "models" / "flexcam.py")
+    model = flexcam.derive()
+    svg = bondgraph.draw(model, fmt="svg")
+    _write_if_changed(out / "flexcam.svg", svg)
+    G = model.transfer_function("hub.e_in", "y").subs(flexcam.parameters)
+    fig = bode(G.to_control(), omega=np.logspace(1, 3.5, 800), hz=True,
+               labels=["tip deflection y(L) / e_in"], title="FLEXCAM, paper formulation")
+    fig.set_size_inches(6.4, 4.0)
+    buffer = io.StringIO()
+    fig.savefig(buffer, format="svg", metadata={"Date": None})
+    _write_if_changed(out / "flexcam_bode.svg", buffer.getvalue())
+
+
 write_api_pages(DOCS / "api" / "generated")
+write_landing_figures(DOCS / "_generated")

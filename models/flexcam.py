@@ -141,14 +141,27 @@ def paper_transfer_function(n_modes: int = 3):
     return mdl, G, G.subs(values), params
 
 
+#: width of the main job's console output (characters)
+WIDTH = 100
+
+
+def _printer(width: int):
+    """``say(text, indent=2)``: print ``text`` wrapped at ``width``, continuation lines indented."""
+    import textwrap
+
+    def say(text: str, indent: int = 2) -> None:
+        print(textwrap.fill(text, width, subsequent_indent=" " * indent, break_long_words=False,
+                            break_on_hyphens=False))
+    return say
+
+
 def main(argv: list[str] | None = None) -> int:
     """Print the symbolic and numeric FLEXCAM transfer function, write numeric ABCD."""
     import argparse
 
-    import numpy as np
-
     from bondgraph.export import export
     from bondgraph.numeric import compile_plant
+    from bondgraph.tf.coefficients import coefficient_table
 
     ap = argparse.ArgumentParser(description=main.__doc__)
     ap.add_argument("--out", default="out", help="directory for flexcam_abcd.npz/.mat")
@@ -156,37 +169,43 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
 
     mdl, G, Gn, params = paper_transfer_function(args.modes)
-    print(f"FLEXCAM (seed 000, Eqs. 7-13): {len(mdl.states)} states "
-          f"{list(mdl.state_names)}\n")
-    print("Symbolic G(s) = Y(L,s)/E_in(s) = (a_{n} s^n + ... + a_0)/(b_{m} s^m + ... + b_0):")
-    for letter, coeffs in (("a", G.num_coeffs), ("b", G.den_coeffs)):
-        deg = len(coeffs) - 1
-        for k, c in enumerate(coeffs):
-            print(f"  {letter}{deg - k} = {c}")
-    print("\nwith the modal symbols (pinned-free link modes, mass-normalised):")
+    values = {p.name: params[p.name] for p in mdl.parameters}
+    say = _printer(WIDTH)
+    say(f"FLEXCAM (seed 000, Eqs. 7-13): {len(mdl.states)} states: {', '.join(mdl.state_names)}")
+    print()
+    say("Symbolic G(s) = Y(L,s)/E_in(s) = (a5 s^5 + ... + a0)/(b6 s^6 + ... + b0), the form of "
+        "Eq. (13). value: Table 1 parameters, steel link (E = 200 GPa); paper: Eq. (13) as "
+        "printed; ratio = value/paper; under each row its symbolic coefficient.")
+    print()
+    table = coefficient_table(G, values, printed_num=PRINTED_NUM, printed_den=PRINTED_DEN,
+                              printed_label="paper (Eq. 13)", output_unit="m", input_unit="V")
+    print(table.format(WIDTH))
+    print()
+    say("with the modal symbols (pinned-free link modes, mass-normalised):")
     for name in sorted(v for v in params if v.startswith("link.")):
         print(f"  {name} = {params[name]:.6g}")
-    print("\nNumeric (Table 1 parameters, steel link E = 200 GPa):")
+    print()
+    say("Numeric (Table 1 parameters, steel link E = 200 GPa):")
     print(Gn)
-    print("\nas printed in the paper (Eq. 13):")
-    print("  num:", " ".join(f"{c:+.4g}" for c in PRINTED_NUM))
-    print("  den:", " ".join(f"{c:+.6g}" for c in PRINTED_DEN))
-    print("\nPoles, zeros and frequencies (cf. paper Table 2: 0.38, 1.23, 2.55 Hz):")
+    print()
+    say(f"Poles, zeros and frequencies (cf. paper Table 2: "
+        f"{', '.join(f'{f:g}' for f in PRINTED_FREQ_HZ)} Hz):")
     print(Gn.table())
-    print("\nThe printed frequencies cannot follow from Table 1's link (they would need "
-          "EI = 1.1e-4 N m^2); see models/flexcam.py and notebooks/02_flexcam.ipynb.")
+    print()
+    say("The printed frequencies cannot follow from Table 1's link (they would need "
+        "EI = 1.1e-4 N m^2); see models/flexcam.py and notebooks/02_flexcam.ipynb.")
 
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     plant = compile_plant(mdl).plant({p.name: params[p.name] for p in mdl.parameters})
     for suffix in ("npz", "mat"):
         export(plant, out / f"flexcam_abcd.{suffix}")
-    np.set_printoptions(precision=4, linewidth=120)
-    print(f"\nA ({plant.A.shape[0]}x{plant.A.shape[1]}), B, C, D written to "
-          f"{out / 'flexcam_abcd.npz'} and {out / 'flexcam_abcd.mat'}")
-    print("states :", ", ".join(plant.state_names))
-    print("inputs :", ", ".join(plant.input_names))
-    print("outputs:", ", ".join(plant.output_names))
+    print()
+    say(f"A ({plant.A.shape[0]}x{plant.A.shape[1]}), B, C, D written to "
+        f"{out / 'flexcam_abcd.npz'} and {out / 'flexcam_abcd.mat'}")
+    say("states : " + ", ".join(plant.state_names), indent=9)
+    say("inputs : " + ", ".join(plant.input_names), indent=9)
+    say("outputs: " + ", ".join(plant.output_names), indent=9)
     return 0
 
 

@@ -103,15 +103,51 @@ def cmd_tf(args) -> None:
     tfmod = _common._transfer_module()
     G = tfmod.transfer_function(*matrices, input=inp, output=outp,
                                 input_names=list(ss.input_names), output_names=list(ss.output_names))
-    if values is None:
-        print(G.to_latex() if args.latex else str(G))
+    if values:
+        # the model file's values were checked against the whole model; this function uses some
+        used = {p.name for p in G.parameters}
+        values = {k: v for k, v in values.items() if getattr(k, "name", k) in used}
+    if args.latex:
+        if values is None:
+            print(G.to_latex())
+            return
+        N = G.subs(values)
+        print(N.to_latex())
+        if N.table().rows:
+            print()
+            print(N.table().to_latex())
         return
-    N = G.subs(values)
-    print(N.to_latex() if args.latex else str(N))
+    _print_tf(G, values)
+
+
+#: width of the command line's text output (characters)
+WIDTH = 100
+
+
+def _print_tf(G, values) -> None:
+    """``tf`` as text: the function (when it fits the width), its coefficient table, poles and zeros."""
+    from ..tf.coefficients import coefficient_table
+
+    whole = str(G)
+    if len(whole) <= WIDTH:
+        print(whole)
+    else:
+        print(f"{G.output_name}/{G.input_name} = (a_n s^n + ... + a_0)/(b_m s^m + ... + b_0), "
+              "coefficients below")
+    if values is not None:
+        N = G.subs(values)
+        text = str(N)
+        if max(len(line) for line in text.splitlines()) <= WIDTH:
+            print()
+            print(text)
+    print()
+    print(coefficient_table(G, values).format(WIDTH))
+    if values is None:
+        return
     table = N.table()
     if table.rows:
         print()
-        print(table.to_latex() if args.latex else str(table))
+        print(table)
 
 
 # --------------------------------------------------------------------------- export
@@ -211,12 +247,24 @@ def cmd_draw(args) -> None:
             raise
         raise CLIError("drawing needs bondgraph.drawing (not available in this installation)") from None
     # drawn here and written through atomic_write, so that a failure names the target file
-    scene = drawing.build_scene(drawing.diagram(defn.graph, causality=not args.no_causality))
+    diag = drawing.diagram(defn.graph, causality=not args.no_causality)
+    if getattr(args, "no_prefixes", False):
+        from ..drawing.labels import without_prefixes
+        diag = without_prefixes(diag)
+    max_width = getattr(args, "max_width", 17.0)
+    font_pt = getattr(args, "font_pt", 8.0)
+    if not (font_pt > 0 and max_width >= 0):
+        raise CLIError(f"--font-pt must be positive and --max-width at least 0; got {font_pt:g} "
+                       f"and {max_width:g}")
+    scene = drawing.build_scene(diag, max_width=max_width or None, font_pt=font_pt,
+                                title=not getattr(args, "no_title", False),
+                                numbers=not getattr(args, "no_numbers", False),
+                                latex=getattr(args, "latex", False))
     if kind == "svg":
         data = drawing.scene_to_svg(scene).encode("utf-8")
         atomic_write(out, lambda fh: fh.write(data))
     elif kind == "tex":
-        data = drawing.scene_to_tikz(scene, standalone=not args.tikz_only).encode("ascii")
+        data = drawing.scene_to_tikz(scene, standalone=not args.tikz_only, font_pt=font_pt).encode("ascii")
         atomic_write(out, lambda fh: fh.write(data))
     else:
         atomic_write(out, lambda fh: drawing.write_png(scene, fh))

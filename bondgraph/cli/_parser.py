@@ -106,6 +106,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--no-causality", action="store_true", help="omit causal strokes")
     p.add_argument("--tikz-only", action="store_true",
                    help="TikZ: write only the tikzpicture environment (for \\input)")
+    p.add_argument("--max-width", type=float, default=17.0, metavar="CM",
+                   help="wrap the layout to fit this width in cm with labels at --font-pt "
+                        "(default 17, a two-column page; 0: no limit)")
+    p.add_argument("--font-pt", type=float, default=8.0, metavar="PT",
+                   help="label size in points for --max-width and the TikZ picture (default 8)")
+    p.add_argument("--no-title", action="store_true", help="omit the model's name")
+    p.add_argument("--no-prefixes", action="store_true",
+                   help="labels without sub-model prefixes (I:m_1 for I:link.m_1)")
+    p.add_argument("--no-numbers", action="store_true", help="omit the bond numbers")
+    p.add_argument("--latex", action="store_true", help="TikZ: element names as LaTeX math")
     p.set_defaults(func=cmd_draw)
 
     from ..study.design import DESIGNS

@@ -31,7 +31,9 @@ _FORMATS = ("svg", "png", "tex")
 
 def draw(obj: Drawable, path: Union[str, os.PathLike, None] = None, *,
          fmt: Optional[str] = None, causality: bool = True, expand: bool = True,
-         wrap: int = 14, dpi: float = 150.0, standalone: bool = True) -> str:
+         wrap: int = 14, dpi: float = 150.0, standalone: bool = True,
+         max_width: Optional[float] = 17.0, font_pt: float = 8.0, title: bool = True,
+         prefixes: bool = True, numbers: bool = True, latex: bool = False) -> str:
     """Draw a bond graph (augmented with causal strokes) as SVG or TikZ, optionally to a file.
 
     Parameters
@@ -55,7 +57,8 @@ def draw(obj: Drawable, path: Union[str, os.PathLike, None] = None, *,
         sub-model of a :class:`~bondgraph.BondGraph` as one box with its
         ports as bond ends (bond numbers are then the builder's).
     wrap : int
-        Longest run of the main chain on one row before it snakes back.
+        Longest run of the main chain on one row before it snakes back
+        (lowered further when needed to fit ``max_width``).
     dpi : float
         PNG resolution (100 = one pixel per SVG unit).
     standalone : bool
@@ -63,6 +66,24 @@ def draw(obj: Drawable, path: Union[str, os.PathLike, None] = None, *,
         own (``article`` + ``tikz``, the page cropped to the picture); False
         writes only the ``tikzpicture``, for ``\\input`` into a document that
         loads ``tikz``.
+    max_width : float or None, default 17.0
+        Width in cm the figure must fit with its labels printed at
+        ``font_pt`` points (17 cm: a two-column page): the main chain wraps
+        into shorter rows until it fits (see
+        :func:`~bondgraph.drawing.scene.build_scene`); None keeps ``wrap``.
+    font_pt : float, default 8.0
+        Label size in points the width is reckoned at; the TikZ picture is
+        written at that size (one px = ``font_pt / 14`` pt).
+    title : bool
+        Print the model's name above the graph.
+    prefixes : bool
+        Keep sub-model prefixes in labels (``I:link.m_1``); False prints
+        ``I:m_1``.
+    numbers : bool
+        Print the bond numbers.
+    latex : bool
+        TikZ only: element names as LaTeX math (``I:$m_{1}$``, see
+        :func:`~bondgraph.drawing.tikz.latex_label`).
 
     Returns
     -------
@@ -102,9 +123,14 @@ def draw(obj: Drawable, path: Union[str, os.PathLike, None] = None, *,
         form = _format(path, fmt)
     elif fmt is not None and fmt.lower() not in _FORMATS:
         raise DrawingError(f"unknown drawing format {fmt!r}; expected one of {', '.join(_FORMATS)}")
-    scene = build_scene(diagram(obj, causality=causality, expand=expand), wrap=wrap)
+    diag = diagram(obj, causality=causality, expand=expand)
+    if not prefixes:
+        from .labels import without_prefixes
+        diag = without_prefixes(diag)
+    scene = build_scene(diag, wrap=wrap, title=title, numbers=numbers, max_width=max_width,
+                        font_pt=font_pt, latex=latex)
     if (form or (fmt or "").lower().lstrip(".")) == "tex":
-        tikz = scene_to_tikz(scene, standalone=standalone)
+        tikz = scene_to_tikz(scene, standalone=standalone, font_pt=font_pt)
         if path is not None:
             _atomic_write(path, lambda f: f.write(tikz.encode("ascii")))
         return tikz

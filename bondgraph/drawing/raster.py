@@ -87,8 +87,9 @@ def scene_figure(scene: Scene) -> Figure:
             (sx0, sy0), (sx1, sy1) = b.stroke
             ax.add_line(Line2D([sx0, sx1], [sy0, sy1], color=col, lw=2 * pt,
                                solid_capstyle="round", zorder=2))
-        text(*b.number_at, str(b.number), size=NUMBER_FONT, color=COLORS["number"],
-             effects=halo, z=3)
+        if scene.numbers:
+            text(*b.number_at, str(b.number), size=NUMBER_FONT, color=COLORS["number"],
+                 effects=halo, z=3)
         for port, (px, py) in b.ports:
             text(px, py, port, size=NOTE_FONT, color=COLORS["sub"], effects=halo, z=3)
     for lb in scene.labels:

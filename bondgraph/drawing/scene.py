@@ -33,7 +33,7 @@ Examples
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 from typing import Optional
 
@@ -243,6 +243,10 @@ class Scene:
     legend_at: Point
     title: str
     causal: bool
+    #: draw the bond numbers
+    numbers: bool = True
+    #: label elements with LaTeX names in TikZ (``I:$m_{1}$``)
+    latex: bool = False
 
     def label(self, name: str) -> Label:
         """The label of node ``name``."""
@@ -270,7 +274,8 @@ def _label_size(text: str, note: str, role: str) -> tuple[float, float, float, f
     return tw, left, right, h
 
 
-def build_scene(diag: Diagram, *, wrap: int = 14, title: bool = True) -> Scene:
+def build_scene(diag: Diagram, *, wrap: int = 14, title: bool = True, numbers: bool = True,
+                max_width: Optional[float] = None, font_pt: float = 8.0, latex: bool = False) -> Scene:
     """Lay out a diagram and compute every shape.
 
     Parameters
@@ -280,6 +285,18 @@ def build_scene(diag: Diagram, *, wrap: int = 14, title: bool = True) -> Scene:
         Longest run of the main path on one row (see :func:`grid_layout`).
     title : bool
         Reserve a line at the top for the graph's name.
+    numbers : bool
+        Draw the bond numbers.
+    max_width : float, optional
+        Width in cm the figure must fit when its labels are printed at
+        ``font_pt`` points: the main path wraps into more, shorter rows
+        (``wrap`` lowered step by step down to 2) until it fits with no bond
+        through a label (else the first that fits); the narrowest layout is
+        kept when none fits.
+    font_pt : float
+        Label size in points for ``max_width``.
+    latex : bool
+        Mark the scene for LaTeX element names in TikZ.
 
     Returns
     -------
@@ -294,6 +311,30 @@ def build_scene(diag: Diagram, *, wrap: int = 14, title: bool = True) -> Scene:
     >>> [lb.text for lb in sc.labels], sc.overlaps()
     (['Se:V', 'R:R'], [])
     """
+    if max_width is None:
+        return _build_scene(diag, wrap, title, numbers, latex)
+    from .geometry import bonds_through_labels, printed_size
+
+    if not (isinstance(max_width, (int, float)) and math.isfinite(max_width) and max_width > 0):
+        from .source import DrawingError
+        raise DrawingError(f"max_width must be a positive width in cm; got {max_width!r}")
+    best = fitting = None
+    w = wrap
+    while w >= 2:
+        scene = _build_scene(diag, w, title, numbers, latex)
+        width = printed_size(scene, font_pt=font_pt)[0]
+        if width <= max_width:
+            if not bonds_through_labels(scene):
+                return scene
+            fitting = fitting or scene       # fits, but a bond runs through a label: try on
+        if best is None or width < best[0]:
+            best = (width, scene)
+        w -= 1       # (the width is not monotonic in the wrap: every one is tried)
+    assert best is not None
+    return fitting or best[1]
+
+
+def _build_scene(diag: Diagram, wrap: int, title: bool, numbers: bool, latex: bool) -> Scene:
     names = [n.name for n in diag.nodes]
     roles = {n.name: n.role for n in diag.nodes}
     cells = grid_layout(names, roles, [(e.tail, e.head) for e in diag.edges], wrap=wrap)
@@ -335,8 +376,8 @@ def build_scene(diag: Diagram, *, wrap: int = 14, title: bool = True) -> Scene:
                                 n.derivative, n.arbitrary, n.role))
         by_name = {lb.name: lb for lb in labels}
         avoid = [lb.box for lb in labels]
-        bonds = [_bond_shape(e, by_name[e.tail], by_name[e.head], shift[k], avoid)
-                 for k, e in enumerate(diag.edges)]
+        bonds = _place_numbers([_bond_shape(e, by_name[e.tail], by_name[e.head], shift[k], avoid)
+                                for k, e in enumerate(diag.edges)], avoid)
         width = MARGIN + sum(col_w) + MARGIN - HGAP / 2 + dx + grow_x
         height = top + sum(row_h) - VGAP / 2 + 4 + dy + grow_y
         x0, y0, x1, y1 = _extent(bonds)
@@ -367,7 +408,7 @@ def build_scene(diag: Diagram, *, wrap: int = 14, title: bool = True) -> Scene:
     if ttl:
         width = max(width, 2 * MARGIN + text_width(ttl, TITLE_FONT))
     return Scene(diag.name, math.ceil(width), math.ceil(height), tuple(labels),
-                 tuple(bonds), tuple(legend), legend_at, ttl, diag.causal)
+                 tuple(bonds), tuple(legend), legend_at, ttl, diag.causal, numbers, latex)
 
 
 def _extent(bonds) -> tuple[float, float, float, float]:
@@ -429,10 +470,15 @@ def _bezier(p0: Point, c: Optional[Point], p1: Point, t: float) -> Point:
 
 
 def _crossed(p0: Point, c: Optional[Point], p1: Point, boxes: list[Box]) -> int:
-    """How many of ``boxes`` the line (or curve) from p0 to p1 passes through."""
-    pts = [_bezier(p0, c, p1, t) for t in [k / 40 for k in range(1, 40)]]
-    return sum(any(b[0] - 2 < x < b[0] + b[2] + 2 and b[1] - 2 < y < b[1] + b[3] + 2
-                   for x, y in pts) for b in boxes)
+    """How many of ``boxes`` (grown by 2 px) the line (or curve) from p0 to p1 passes through."""
+    pts = [_bezier(p0, c, p1, k / 40) for k in range(41)] if c is not None else [p0, p1]
+    segs = list(zip(pts, pts[1:]))
+    return sum(any(_segment_hits_box(a, b, box, -2.0) for a, b in segs) for box in boxes)
+
+
+#: bends tried for a bond that would cross a label: control point offsets across the bond,
+#: in units of its length, smallest first
+_BENDS = tuple(sorted((s * k / 20 for k in range(5, 41) for s in (1, -1)), key=abs))
 
 
 def _bond_shape(e, tail, head, shift: float, avoid: list[Box]) -> BondShape:
@@ -447,12 +493,16 @@ def _bond_shape(e, tail, head, shift: float, avoid: list[Box]) -> BondShape:
         L = math.hypot(bx - ax, by - ay)
         mid = ((ax + bx) / 2, (ay + by) / 2)
         best = None
-        for k in (0.25, -0.25, 0.4, -0.4, 0.6, -0.6, 0.8, -0.8):
-            c = (mid[0] + k * L * nx_, mid[1] + k * L * ny_)
-            hits = _crossed((ax, ay), c, (bx, by), others)
-            if best is None or hits < best[0]:
-                best = (hits, c)
-            if hits == 0:
+        # bends across the bond's middle first, then control points moved along it too
+        for along in (0.0, -0.3, 0.3):
+            for k in _BENDS:
+                c = (mid[0] + k * L * nx_ + along * L * ux, mid[1] + k * L * ny_ + along * L * uy)
+                hits = _crossed((ax, ay), c, (bx, by), others)
+                if best is None or hits < best[0]:
+                    best = (hits, c)
+                if hits == 0:
+                    break
+            if best is not None and best[0] == 0:
                 break
         if best is not None and best[0] < _crossed((ax, ay), None, (bx, by), others):
             ctrl = best[1]
@@ -506,6 +556,85 @@ def _number_position(text: str, start: Point, ctrl: Optional[Point], end: Point,
             if not any(_hit(box, b) for b in avoid):
                 return mx, my
     return first  # type: ignore[return-value]
+
+
+def _polyline(b: BondShape, n: int = 24) -> list[Point]:
+    """The drawn line of a bond: its two ends, or ``n`` pieces of its curve."""
+    if b.control is None:
+        return [b.start, b.end]
+    return [_bezier(b.start, b.control, b.end, k / n) for k in range(n + 1)]
+
+
+def _segment_hits_box(p: Point, q: Point, box: Box, shrink: float = 0.0) -> bool:
+    """Whether segment p-q passes through ``box`` shrunk by ``shrink`` on every side (Liang-Barsky)."""
+    x0, y0 = box[0] + shrink, box[1] + shrink
+    x1, y1 = box[0] + box[2] - shrink, box[1] + box[3] - shrink
+    if x0 >= x1 or y0 >= y1:
+        return False
+    dx, dy = q[0] - p[0], q[1] - p[1]
+    t0, t1 = 0.0, 1.0
+    for pk, qk in ((-dx, p[0] - x0), (dx, x1 - p[0]), (-dy, p[1] - y0), (dy, y1 - p[1])):
+        if pk == 0:
+            if qk < 0:
+                return False
+            continue
+        t = qk / pk
+        if pk < 0:
+            t0 = max(t0, t)
+        else:
+            t1 = min(t1, t)
+        if t0 > t1:
+            return False
+    return True
+
+
+def _cross_segments(p1: Point, p2: Point, q1: Point, q2: Point) -> bool:
+    """Whether segments p1-p2 and q1-q2 cross at a point inside both (touching is not crossing)."""
+    def orient(a: Point, b: Point, c: Point) -> int:
+        v = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+        return 0 if abs(v) < 1e-9 else (1 if v > 0 else -1)
+    return (orient(p1, p2, q1) * orient(p1, p2, q2) < 0) and (orient(q1, q2, p1) * orient(q1, q2, p2) < 0)
+
+
+def _place_numbers(bonds: list[BondShape], avoid: list[Box]) -> list[BondShape]:
+    """Bond numbers moved off every label, every other bond and the numbers placed before.
+
+    Candidates: along the bond at 0.5, 0.35, 0.65, 0.2, 0.8 of its length,
+    opposite the barb first, then the barb's side, at the usual distance and
+    farther; the first free one wins, else the number stays where it was.
+    """
+    lines = [list(zip(pts, pts[1:])) for pts in (_polyline(b) for b in bonds)]
+    placed: list[Box] = []
+    out = []
+    for k, b in enumerate(bonds):
+        text = str(b.number)
+        w, h = text_width(text, NUMBER_FONT), NUMBER_FONT
+        chosen = None
+        for extra in (0.0, 6.0, 12.0):
+            for t in (0.5, 0.35, 0.65, 0.2, 0.8):
+                px, py = _bezier(b.start, b.control, b.end, t)
+                q = _bezier(b.start, b.control, b.end, min(t + 0.01, 1.0))
+                ux, uy = _unit(q[0] - px, q[1] - py)
+                n = (uy, -ux)
+                across = NUMBER_OFFSET + extra + abs(n[0]) * w / 2 + abs(n[1]) * h / 2
+                for side in (-1.0, 1.0):
+                    mx, my = px + side * across * n[0], py + side * across * n[1]
+                    box = (mx - w / 2 - 1, my - h / 2 - 1, w + 2, h + 2)
+                    if any(_hit(box, a) for a in avoid) or any(_hit(box, a) for a in placed):
+                        continue
+                    if any(_segment_hits_box(p0, p1, box) for j, segs in enumerate(lines)
+                           for p0, p1 in segs if j != k):
+                        continue
+                    chosen = (mx, my)
+                    break
+                if chosen:
+                    break
+            if chosen:
+                break
+        at = chosen or b.number_at
+        placed.append((at[0] - w / 2, at[1] - h / 2, w, h))
+        out.append(replace(b, number_at=at))
+    return out
 
 
 def _hit(a: Box, b: Box) -> bool:

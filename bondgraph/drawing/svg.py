@@ -56,7 +56,7 @@ def _text(x: float, y: float, s: str, *, size: float, cls: str, fill: str,
             f'fill="{fill}"{extra}>{escape(s)}</text>')
 
 
-def _bond(b: BondShape) -> list[str]:
+def _bond(b: BondShape, numbers: bool = True) -> list[str]:
     col = b.color
     width = "2" if b.loop else "1.3"
     (x0, y0), (x1, y1) = b.start, b.end
@@ -79,9 +79,10 @@ def _bond(b: BondShape) -> list[str]:
         attrs = _attrs(class_="stroke", data_bond=b.number, data_end=b.stroke_end,
                        x1=float(sx0), y1=float(sy0), x2=float(sx1), y2=float(sy1))
         out.append(f'<line {attrs} stroke="{col}" stroke-width="2" stroke-linecap="round"/>')
-    nx_, ny_ = b.number_at
-    out.append(_text(nx_, ny_, str(b.number), size=NUMBER_FONT, cls="bond-number",
-                     fill=COLORS["number"], halo=True))
+    if numbers:
+        nx_, ny_ = b.number_at
+        out.append(_text(nx_, ny_, str(b.number), size=NUMBER_FONT, cls="bond-number",
+                         fill=COLORS["number"], halo=True))
     for port, (px, py) in b.ports:
         out.append(_text(px, py, port, size=NOTE_FONT, cls="port-name", fill=COLORS["sub"],
                          halo=True))
@@ -149,7 +150,7 @@ def scene_to_svg(scene: Scene) -> str:
                          fill=COLORS["title"], anchor="start"))
     out.append('<g class="bonds">')
     for b in scene.bonds:
-        out.extend(_bond(b))
+        out.extend(_bond(b, scene.numbers))
     out.append("</g>")
     out.append('<g class="elements">')
     for lb in scene.labels:

@@ -38,8 +38,10 @@ True
 from __future__ import annotations
 
 import math
+import re
+from typing import Optional
 
-from .scene import COLORS, BondShape, Label, Scene
+from .scene import COLORS, FONT, NOTE_FONT, NUMBER_FONT, TITLE_FONT, BondShape, Label, Scene
 from .source import DrawingError
 
 __all__ = ["scene_to_tikz", "tex_escape"]
@@ -116,7 +118,7 @@ def _color(c: str) -> str:
     return _COLOR_NAMES[c]
 
 
-def _bond(b: BondShape) -> list[str]:
+def _bond(b: BondShape, numbers: bool = True) -> list[str]:
     tail, head = tex_escape(b.tail, "bond end"), tex_escape(b.head, "bond end")
     style = "bondgraph loop" if b.loop else "bondgraph bond"
     out = [f"% bond {b.number}: {tail} -> {head}"]
@@ -132,18 +134,43 @@ def _bond(b: BondShape) -> list[str]:
         end = tex_escape(b.stroke_end or "", "bond end")
         out.append(f"\\draw[{style}, bondgraph stroke] {_p(b.stroke[0])} -- {_p(b.stroke[1])};"
                    f" % stroke {b.number} at {end}")
-    out.append(f"\\node[bondgraph number] at {_p(b.number_at)} {{{b.number}}};")
+    if numbers:
+        out.append(f"\\node[bondgraph number] at {_p(b.number_at)} {{{b.number}}};")
     for port, at in b.ports:
         out.append(f"\\node[bondgraph port] at {_p(at)} {{{tex_escape(port, 'port name')}}};")
     return out
 
 
-def _label(lb: Label) -> list[str]:
+_SAFE_NAME = re.compile(r"[A-Za-z][A-Za-z0-9_.]*\Z")
+
+
+def latex_label(text: str) -> Optional[str]:
+    r"""``'I:m_1'`` as ``'I:$m_{1}$'`` (the name through :func:`bondgraph._labels.latex_name`).
+
+    Only a ``KIND:name`` label whose name is letters, digits, ``_`` and
+    ``.`` is turned into math; anything else gives None (the caller then
+    writes the escaped text), so no character of a name reaches LaTeX
+    unescaped.
+
+    Examples
+    --------
+    >>> latex_label("I:m_1"), latex_label("R:link.b_2"), latex_label("1"), latex_label("R:a$b")
+    ('I:$m_{1}$', 'R:$\\mathrm{link}.b_{2}$', None, None)
+    """
+    from .._support.labels import latex_name
+
+    kind, sep, name = text.partition(":")
+    if not sep or not _SAFE_NAME.match(name) or not re.fullmatch(r"[A-Za-z]+", kind):
+        return None
+    return f"{kind}:${latex_name(name)}$"
+
+
+def _label(lb: Label, latex: bool = False) -> list[str]:
     what = f"element {lb.name!r}"
-    text = tex_escape(lb.text, f"label of {what}")
+    text = (latex and latex_label(lb.text)) or tex_escape(lb.text, f"label of {what}")
     x, y, w, h = lb.box
     out = [f"% element {tex_escape(lb.name, 'element name')}"]
-    font = r"\small\bfseries" if lb.role in ("junction", "sub") else r"\small"
+    font = "bondgraph boldfont" if lb.role in ("junction", "sub") else "bondgraph labelfont"
     color = _color(lb.color)
     if lb.role == "sub" or lb.derivative:
         fill, draw, r = (("bondgraphsubfill", "bondgraphsub", 6) if lb.role == "sub" else
@@ -152,10 +179,10 @@ def _label(lb: Label) -> list[str]:
         out.append(f"\\filldraw[fill={fill}, draw={draw}, line width={_f(width * PT_PER_PX)}pt, "
                    f"rounded corners={_f(r * PT_PER_PX)}pt] {_p((x, y))} rectangle "
                    f"{_p((x + w, y + h))};")
-        out.append(f"\\node[bondgraph text, text={color}, font={font}] at {_p((lb.x, lb.y))} "
+        out.append(f"\\node[bondgraph text, {font}, text={color}] at {_p((lb.x, lb.y))} "
                    f"{{{text}}};")
     else:
-        out.append(f"\\node[bondgraph label, text={color}, font={font}] at {_p((lb.x, lb.y))} "
+        out.append(f"\\node[bondgraph label, {font}, text={color}] at {_p((lb.x, lb.y))} "
                    f"{{{text}}};")
     if lb.note:
         note = tex_escape(lb.note, f"name of {what}")
@@ -163,35 +190,51 @@ def _label(lb: Label) -> list[str]:
     return out
 
 
-def _picture(scene: Scene) -> list[str]:
+def _fonts(font_pt: Optional[float]) -> dict[str, str]:
+    """The picture's fonts: the document's (``\\small`` labels...) or sizes scaled to ``font_pt``."""
+    if font_pt is None:
+        return {"label": r"\small", "number": r"\scriptsize", "note": r"\tiny", "title": r"\footnotesize"}
+
+    def size(px: float) -> str:
+        pt = font_pt * px / FONT
+        return f"\\fontsize{{{_f(pt)}pt}}{{{_f(1.2 * pt)}pt}}\\selectfont"
+    return {"label": size(FONT), "number": size(NUMBER_FONT), "note": size(NOTE_FONT),
+            "title": size(TITLE_FONT)}
+
+
+def _picture(scene: Scene, font_pt: Optional[float] = None) -> list[str]:
     name = tex_escape(scene.name, "graph name")
-    lw = 1.3 * PT_PER_PX
+    unit = PT_PER_PX if font_pt is None else font_pt / FONT
+    fonts = _fonts(font_pt)
+    lw = 1.3 * unit
     out = [
         f"% bond graph {name}, drawn by bondgraph",
-        "% coordinates in px of the SVG drawing: x right, y down; 1 px = 0.75 pt",
-        "\\begin{tikzpicture}[x=0.75pt, y=-0.75pt, line cap=round, line join=round,",
+        f"% coordinates in px of the SVG drawing: x right, y down; 1 px = {_f(unit)} pt",
+        f"\\begin{{tikzpicture}}[x={_f(unit)}pt, y=-{_f(unit)}pt, line cap=round, line join=round,",
         f"  bondgraph bond/.style={{draw=bondgraphink, line width={_f(lw)}pt}},",
-        f"  bondgraph loop/.style={{draw=bondgraphloop, line width={_f(2 * PT_PER_PX)}pt}},",
-        f"  bondgraph stroke/.style={{line width={_f(2 * PT_PER_PX)}pt}},",
+        f"  bondgraph loop/.style={{draw=bondgraphloop, line width={_f(2 * unit)}pt}},",
+        f"  bondgraph stroke/.style={{line width={_f(2 * unit)}pt}},",
         "  bondgraph text/.style={inner sep=0.5pt},",
         "  bondgraph label/.style={bondgraph text, fill=white, fill opacity=0.85, text opacity=1},",
         "  bondgraph number/.style={inner sep=0.6pt, fill=white, fill opacity=0.8, text opacity=1,",
-        "    text=bondgraphnumber, font=\\scriptsize},",
-        "  bondgraph note/.style={anchor=west, inner sep=0.5pt, text=bondgraphnumber, font=\\tiny},",
+        f"    text=bondgraphnumber, font={fonts['number']}}},",
+        f"  bondgraph note/.style={{anchor=west, inner sep=0.5pt, text=bondgraphnumber, font={fonts['note']}}},",
         "  bondgraph port/.style={inner sep=0.5pt, fill=white, fill opacity=0.8, text opacity=1,",
-        "    text=bondgraphsub, font=\\tiny}]",
+        f"    text=bondgraphsub, font={fonts['note']}}},",
+        f"  bondgraph labelfont/.style={{font={fonts['label']}}},",
+        f"  bondgraph boldfont/.style={{font={fonts['label']}\\bfseries}}]",
     ]
     for color, cname in _COLOR_NAMES.items():
         out.append(f"\\definecolor{{{cname}}}{{HTML}}{{{color.lstrip('#').upper()}}}")
     # the canvas, so the picture has the SVG's size and margins
     out.append(f"\\path[use as bounding box] (0,0) rectangle {_p((scene.width, scene.height))};")
     if scene.title:
-        out.append(f"\\node[anchor=west, inner sep=0pt, text=bondgraphtitle, font=\\footnotesize] "
+        out.append(f"\\node[anchor=west, inner sep=0pt, text=bondgraphtitle, font={fonts['title']}] "
                    f"at (16,16) {{{tex_escape(scene.title, 'graph name')}}};")
     for b in scene.bonds:
-        out.extend(_bond(b))
+        out.extend(_bond(b, scene.numbers))
     for lb in scene.labels:
-        out.extend(_label(lb))
+        out.extend(_label(lb, scene.latex))
     if scene.legend:
         x0, y0 = scene.legend_at
         out.append("% legend")
@@ -230,7 +273,7 @@ _DOCUMENT_TAIL = r"""\end{lrbox}%
 \end{document}"""
 
 
-def scene_to_tikz(scene: Scene, *, standalone: bool = True) -> str:
+def scene_to_tikz(scene: Scene, *, standalone: bool = True, font_pt: Optional[float] = None) -> str:
     """TikZ source of a scene.
 
     Parameters
@@ -241,6 +284,11 @@ def scene_to_tikz(scene: Scene, *, standalone: bool = True) -> str:
         True: a whole LaTeX document (``article`` + ``tikz``) whose one page
         is the picture.  False: only the ``tikzpicture`` environment, for
         ``\\input`` into a document that loads ``tikz``.
+    font_pt : float, optional
+        Print the labels at this size (points) and scale the picture with
+        them (one px is ``font_pt / 14`` pt): the size
+        :func:`~bondgraph.drawing.geometry.printed_size` gives.  None: the
+        document's ``\\small`` labels, one px = 0.75 pt.
 
     Returns
     -------
@@ -263,7 +311,7 @@ def scene_to_tikz(scene: Scene, *, standalone: bool = True) -> str:
     """
     if not (math.isfinite(scene.width) and math.isfinite(scene.height)):
         raise DrawingError(f"TikZ output: the drawing of {scene.name!r} has no finite size")
-    body = _picture(scene)
+    body = _picture(scene, font_pt)
     if not standalone:
         return "\n".join(body) + "\n"
     return "\n".join([*_DOCUMENT_HEAD.split("\n"), *body, *_DOCUMENT_TAIL.split("\n")]) + "\n"

@@ -7,7 +7,13 @@ left); :func:`build_fmu` returns its bytes.  Either takes a
 values become the parameters' start values; ``values`` overrides them).
 The archive holds
 
-* ``modelDescription.xml``: the independent variable ``time``; every state
+* ``modelDescription.xml``: a ``DefaultExperiment`` (start 0, a stop time
+  covering the slowest mode's settling, a step resolving the fastest, a
+  relative tolerance of 1e-6) and every state's ``nominal`` (its size under
+  a unit input step), both read from the linearization at rest with the
+  parameters' values (:func:`bondgraph.fmu._defaults.run_defaults`), so
+  an importer's default settings fit the model; no units (the model
+  declares none); the independent variable ``time``; every state
   (start 0; set it through its name), its derivative ``der(<state>)``, every
   input (start 0), output and parameter (``tunable``, start = its value)
   under the model's names (``motor.Ra``); the model structure (outputs,
@@ -70,6 +76,7 @@ from ..parameters import ParameterValues
 from ._build import (FMUError, compile_library, library_suffix, platform_folder, standard_headers,
                      token_for, zip_archive)
 from ._c_core import CORE, config_header
+from ._defaults import run_defaults
 from ._plan import Plan, default_step, identifier_for, make_plan
 
 __all__ = ["FMUError", "export_fmu", "build_fmu", "default_step", "KINDS", "VERSIONS"]
@@ -129,7 +136,7 @@ def _c_code(model: Model, prefix: str, parameters: list[float]):
 
 def _plan_bytes(plan: Plan) -> bytes:
     return json.dumps([plan.model_name, plan.identifier, [list(v.__dict__.values()) for v in plan.variables],
-                       plan.me, plan.cs], default=str).encode("utf-8")
+                       plan.me, plan.cs, plan.experiment, plan.nominals], default=str).encode("utf-8")
 
 
 def build_fmu(target: Target, *, fmi: int = 2, kind: str = "both",
@@ -178,7 +185,8 @@ def build_fmu(target: Target, *, fmi: int = 2, kind: str = "both",
     prefix = f"{identifier}_model"
     code = _c_code(model, prefix, parameters)
     h = (float(step) if step is not None else default_step(model, parameters)) if cs else None
-    plan = make_plan(model, parameters, step=h, me=me, cs=cs, identifier=identifier)
+    plan = make_plan(model, parameters, step=h, me=me, cs=cs, identifier=identifier,
+                     defaults=run_defaults(model, parameters))
 
     from .. import __version__
     from ._c_fmi2 import FMI2_LAYER

@@ -52,6 +52,9 @@ def config_header(plan: Plan, prefix: str, model_header: str, token: str) -> str
         f"static const unsigned char bg_vr_kind[BG_NVR] = {{{_ints(kinds)}}};",
         f"static const unsigned int bg_vr_index[BG_NVR] = {{{_ints(index)}}};",
         f"static const double bg_default_p[{max(n_params, 1)}] = {{{_doubles(plan.parameters)}}};",
+        "/* nominal value of every state (its size; the importer's absolute tolerance scales with it) */",
+        f"static const double bg_nominal_x[{max(plan.n_states, 1)}] = "
+        f"{{{_doubles(plan.nominals or (1.0,) * plan.n_states)}}};",
         "", "#endif", ""]
     return "\n".join(lines)
 
@@ -312,7 +315,7 @@ static int bg_nominals(bg_instance *c, double *nominals, size_t nx)
 {
     size_t i;
     if (bg_count(c, nx, BG_NX, "state nominals") != BG_OK) return BG_ERROR;
-    for (i = 0; i < nx; ++i) nominals[i] = 1.0;
+    for (i = 0; i < nx; ++i) nominals[i] = bg_nominal_x[i];
     return BG_OK;
 }
 

@@ -29,6 +29,7 @@ import sympy
 
 from ..model import Model
 from ..signals import t as T_SYM
+from ._defaults import Experiment, RunDefaults
 
 __all__ = ["Variable", "Plan", "make_plan", "fmi_name", "xml_text", "STEP_NAME"]
 
@@ -98,6 +99,7 @@ class Variable:
     description: str
     derivative_of: Optional[int] = None
     output_index: Optional[int] = None
+    nominal: Optional[float] = None
 
 
 @dataclass(frozen=True)
@@ -126,6 +128,8 @@ class Plan:
     n_states: int = 0
     n_inputs: int = 0
     n_outputs: int = 0
+    experiment: Optional[Experiment] = None
+    nominals: tuple[float, ...] = ()
 
     def of_kind(self, kind: str) -> list[Variable]:
         """The variables of one kind, in value-reference order."""
@@ -178,8 +182,13 @@ def identifier_for(name: str) -> str:
 
 
 def make_plan(model: Model, parameters: Sequence[float], *, step: Optional[float],
-              me: bool, cs: bool, identifier: str) -> Plan:
-    """Lay out the FMU's variables for ``model`` (parameter values in ``model.parameters`` order)."""
+              me: bool, cs: bool, identifier: str, defaults: Optional[RunDefaults] = None) -> Plan:
+    """Lay out the FMU's variables for ``model`` (parameter values in ``model.parameters`` order).
+
+    ``defaults`` (from :func:`~bondgraph.fmu._defaults.run_defaults`) gives the
+    states' nominal values and the default experiment.
+    """
+    nominals = defaults.nominals if defaults is not None else (1.0,) * len(model.states)
     names = _Names()
     states, inputs, params = model.states, model.inputs, model.parameters
     # the model's own names first: they are what users set start values by
@@ -207,7 +216,7 @@ def make_plan(model: Model, parameters: Sequence[float], *, step: Optional[float
             state_names[i], len(variables), "state", i,
             "output" if as_output is not None else "local", "continuous", "exact", 0.0,
             _described("state" + (" and output" if as_output is not None else ""), s.name, state_names[i]),
-            output_index=as_output))
+            output_index=as_output, nominal=float(nominals[i])))
     first_state = 1
     for i, s in enumerate(states):
         variables.append(Variable(der_names[i], len(variables), "derivative", i, "local", "continuous",
@@ -260,7 +269,8 @@ def make_plan(model: Model, parameters: Sequence[float], *, step: Optional[float
             inits.append(unknown(v.vr, expr, at_init, False))
     inits.sort(key=lambda u: u.vr)
     return Plan(model.name, identifier, tuple(variables), tuple(outs), tuple(ders), tuple(inits),
-                tuple(float(p) for p in parameters), step, me, cs, n, m, len(model.output_names))
+                tuple(float(p) for p in parameters), step, me, cs, n, m, len(model.output_names),
+                defaults.experiment if defaults is not None else None, tuple(float(v) for v in nominals))
 
 
 def default_step(model: Model, parameters: Sequence[float]) -> float:

@@ -58,6 +58,10 @@ def _interfaces(root: ET.Element, plan: Plan, fmi: int, sources: Sequence[str]) 
     cats = ET.SubElement(root, "LogCategories")
     ET.SubElement(cats, "Category", {"name": "logStatusError", "description": "errors"})
     ET.SubElement(cats, "Category", {"name": "logAll", "description": "every message"})
+    if plan.experiment is not None:
+        e = plan.experiment
+        ET.SubElement(root, "DefaultExperiment", {"startTime": _num(e.start), "stopTime": _num(e.stop),
+                                                  "tolerance": _num(e.tolerance), "stepSize": _num(e.step)})
 
 
 def _attributes(v: Variable, fmi: int) -> dict[str, str]:
@@ -72,6 +76,8 @@ def _type_attributes(v: Variable, fmi: int) -> dict[str, str]:
     out = {}
     if v.start is not None:
         out["start"] = _num(v.start)
+    if v.nominal is not None:
+        out["nominal"] = _num(v.nominal)
     if v.derivative_of is not None:
         out["derivative"] = str(v.derivative_of + 1 if fmi == 2 else v.derivative_of)
     return out

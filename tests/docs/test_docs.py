@@ -17,6 +17,7 @@ from __future__ import annotations
 import doctest
 import importlib.util
 import re
+import shutil
 import subprocess
 import sys
 import time
@@ -52,7 +53,7 @@ def _examples(path: Path) -> str:
 
 
 def _sphinx_missing() -> str | None:
-    for module in ("sphinx", "numpydoc", "myst_nb", "furo"):
+    for module in ("sphinx", "numpydoc", "myst_nb", "furo", "sphinx-mathjax-offline"):
         if importlib.util.find_spec(module) is None:
             return f"{module} is not installed (pip install -e '.[docs]')"
     return None
@@ -128,3 +129,52 @@ def test_site_builds(tmp_path):
     assert (out / "guide" / "causality.html").is_file()
     assert "derivative causality" in (out / "guide" / "causality.html").read_text(encoding="utf-8")
     assert "bad-input catalogue" in (out / "errors.html").read_text(encoding="utf-8")
+    _check_offline(out)
+
+    # the landing page: the three-line example, the FLEXCAM bond graph and its Bode diagram
+    index = (out / "index.html").read_text(encoding="utf-8")
+    assert "load_model" in index and "transfer_function" in index
+    for name in ("flexcam.svg", "flexcam_bode.svg"):
+        assert re.search(rf'<img [^>]*src="_images/{name}"', index), name
+        assert (out / "_images" / name).is_file(), name
+    # the notebooks open on the physics: the set-up cell is collapsed (myst-nb's hide-input)
+    for name in ("01_srv02_hub", "02_flexcam", "03_appendages", "04_identification", "05_control"):
+        page = (out / "notebooks" / f"{name}.html").read_text(encoding="utf-8")
+        assert "tag_hide-input" in page, name
+
+
+#: a <script src=...> or <link href=...> to another host (http:, https: or protocol-relative)
+_EXTERNAL = re.compile(r'<(?:script|link)\b[^>]*\b(?:src|href)\s*=\s*["\']?(?:https?:)?//', re.I)
+
+
+def _check_offline(out: Path) -> None:
+    """Nothing of the site comes from the network, and its own MathJax renders its math."""
+    pages = sorted(out.rglob("*.html"))
+    bad = [(p.relative_to(out), m.group(0)) for p in pages
+           for m in _EXTERNAL.finditer(p.read_text(encoding="utf-8"))]
+    assert not bad, bad[:5]
+    for css in out.rglob("*.css"):
+        text = css.read_text(encoding="utf-8", errors="replace")
+        assert not re.search(r"(@import|url\()\s*[\"']?(https?:)?//", text), css
+    mathjax = out / "_static" / "mathjax"
+    assert (mathjax / "tex-chtml.js").is_file()
+    assert any((mathjax / "output" / "chtml" / "fonts" / "woff-v2").glob("*.woff"))
+    page = (out / "guide" / "transfer-functions.html").read_text(encoding="utf-8")
+    assert 'src="../_static/mathjax/tex-chtml.js' in page
+    formulas = re.findall(r'class="math notranslate nohighlight">\s*\\[\[(](.*?)\\[\])]', page, re.S)
+    assert formulas, "no math on the transfer-functions page"
+    node = shutil.which("node")
+    if node is None:
+        return
+    import html
+
+    script = ("const [dir, tex] = process.argv.slice(1);"
+              "require(dir + '/node-main.js').init({loader: {paths: {mathjax: dir},"
+              " load: ['input/tex', 'output/chtml', 'adaptors/liteDOM']}})"
+              ".then((MJ) => console.log(MJ.startup.adaptor.outerHTML(MJ.tex2chtml(tex))))"
+              ".catch((e) => { console.error(e.message); process.exit(1); });")
+    tex = html.unescape(formulas[0])
+    done = subprocess.run([node, "-e", script, str(mathjax), tex], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.startswith("<mjx-container") and "<mjx-merror" not in done.stdout, done.stdout[:500]
