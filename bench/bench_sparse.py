@@ -74,14 +74,17 @@ def one(n: int, sparse) -> dict:
     from bench_chain import build
 
     r: dict = {"N": n}
+    c0 = time.process_time()
     t0 = time.perf_counter()
     g = build(n)
     model = bg.derive(bg.assign_causality(g), outputs={"v_last": bg.flow(f"m{n - 1}")})
     model.state_space()
     t1 = time.perf_counter()
     r["derive"], r["rss_derive"] = t1 - t0, _rss_mb()
+    c1 = time.process_time()
     nm = bg.compile_plant(model, sparse=sparse)
     t2 = time.perf_counter()
+    r["compile_cpu"] = time.process_time() - c1
     r["compile"], r["rss_compile"] = t2 - t1, _rss_mb()
     ss = nm.plant(_values(nm))
     t3 = time.perf_counter()
@@ -89,6 +92,7 @@ def one(n: int, sparse) -> dict:
     H = ss.frequency_response(np.logspace(-3, 1, 100))
     t4 = time.perf_counter()
     r["response"], r["rss_response"] = t4 - t3, _rss_mb()
+    r["cpu_total"] = time.process_time() - c0
     r["states"], r["sparse"] = ss.nstates, ss.is_sparse
     r["nnz_A"] = int(ss.A.nnz) if ss.is_sparse else int(np.count_nonzero(ss.A))
     assert H.shape == (100, 1, 1) and np.isfinite(H).all()
@@ -253,12 +257,15 @@ def main(argv: list[str]) -> None:
         mode, argv = argv[0][2:], argv[1:]
     sizes = [int(a) for a in argv] or [1000, 5000, 20000]
     print(f"{'N':>6} {'states':>6} {'sparse':>6} {'nnz A':>7} {'derive s':>9} {'compile s':>9} "
-          f"{'plant s':>8} {'FRF100 s':>9} {'peak MB':>8} (after derive / compile / plant)")
+          f"{'plant s':>8} {'FRF100 s':>9} {'peak MB':>8} {'total s':>8} {'compile CPU s':>13} "
+          f"{'total CPU s':>11} (peak MB after derive / compile / plant)")
     for n in sizes:
         r = _run(["--one", str(n), mode])
         print(f"{n:>6} {r['states']:>6} {str(r['sparse']):>6} {r['nnz_A']:>7} "
               f"{r['derive']:>9.3f} {r['compile']:>9.3f} {r['plant']:>8.3f} "
               f"{r['response']:>9.3f} {r['rss_response']:>8.0f} "
+              f"{r['derive'] + r['compile'] + r['plant'] + r['response']:>8.2f} "
+              f"{r['compile_cpu']:>13.3f} {r['cpu_total']:>11.2f} "
               f"({r['rss_derive']:.0f} / {r['rss_compile']:.0f} / {r['rss_plant']:.0f})")
 
 
