@@ -8,8 +8,6 @@ and sympy's own expansion of the determinant for the bound's soundness.
 
 from __future__ import annotations
 
-import time
-
 import pytest
 import sympy as sp
 
@@ -71,10 +69,8 @@ def test_bound_is_an_upper_bound_of_sympys_expansion():
 
 def test_refused_before_expansion_naming_the_budget():
     A, B, C, D = hub_beam(6)
-    t0 = time.process_time()
     with pytest.raises(TermBudgetError, match=r"max_terms=1,000.*refused before expansion") as info:
         transfer_function(A, B, C, D, input_names=["V"], output_names=["y"], max_terms=1000)
-    assert time.process_time() - t0 < 30                # no expansion happened (generous)
     assert isinstance(info.value, bg.BondGraphError) and isinstance(info.value, ValueError)
     assert "V -> y" in str(info.value)
     with pytest.raises(TermBudgetError, match="transfer matrix"):
