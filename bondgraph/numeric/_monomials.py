@@ -253,7 +253,7 @@ def compile_entries(params: Sequence[sympy.Symbol], exprs: Sequence[sympy.Expr])
     >>> ce.counts, len(ce.general._exprs)
     ({'monomial': 2, 'sum': 1, 'general': 2}, 1)
     """
-    index: dict = {p: i for i, p in enumerate(params)}     # and the factors seen (see _factor)
+    index: dict = {p: i for i, p in enumerate(params)}     # and the factors seen (see _monomial)
     seen: dict = {}
     monos, mono_pos, terms, sum_pos, sum_starts = [], [], [], [], []
     general: list = []
