@@ -11,6 +11,15 @@ chain is the one of ``bench/bench_chain.py`` (imported from it).
     python bench/bench_sparse.py --dense 500      # force dense plants (for comparison)
     python bench/bench_sparse.py --symengine 1000 5000
     python bench/bench_sparse.py --lu 5000        # column orderings of the sparse LU
+    python bench/bench_sparse.py --compare 1000 5000 20000   # compile: numpy classes vs lambdify
+    python bench/bench_sparse.py 100000           # end to end, peak memory
+
+``--compare`` compiles the same model twice in one process, alternating,
+median of 3 (fewer at 20,000 cells): as ``compile_plant`` does (monomials
+and sums of monomials evaluated by numpy, :mod:`bondgraph.numeric._monomials`)
+and with every entry sent to ``sympy.lambdify`` (the classifier patched to
+answer "general": the path before), and reports both times, the classes of
+the entries and the largest relative difference of the plant values.
 
 ``--symengine`` measures ``compile_plant`` end to end with its lambdify step
 done by ``sympy.lambdify(..., cse=True)`` (what it uses) and by
@@ -65,14 +74,17 @@ def one(n: int, sparse) -> dict:
     from bench_chain import build
 
     r: dict = {"N": n}
+    c0 = time.process_time()
     t0 = time.perf_counter()
     g = build(n)
     model = bg.derive(bg.assign_causality(g), outputs={"v_last": bg.flow(f"m{n - 1}")})
     model.state_space()
     t1 = time.perf_counter()
     r["derive"], r["rss_derive"] = t1 - t0, _rss_mb()
+    c1 = time.process_time()
     nm = bg.compile_plant(model, sparse=sparse)
     t2 = time.perf_counter()
+    r["compile_cpu"] = time.process_time() - c1
     r["compile"], r["rss_compile"] = t2 - t1, _rss_mb()
     ss = nm.plant(_values(nm))
     t3 = time.perf_counter()
@@ -80,6 +92,7 @@ def one(n: int, sparse) -> dict:
     H = ss.frequency_response(np.logspace(-3, 1, 100))
     t4 = time.perf_counter()
     r["response"], r["rss_response"] = t4 - t3, _rss_mb()
+    r["cpu_total"] = time.process_time() - c0
     r["states"], r["sparse"] = ss.nstates, ss.is_sparse
     r["nnz_A"] = int(ss.A.nnz) if ss.is_sparse else int(np.count_nonzero(ss.A))
     assert H.shape == (100, 1, 1) and np.isfinite(H).all()
@@ -120,7 +133,7 @@ def symengine_one(n: int, repeats: int = 3) -> dict:
     a, b = plants["sympy"], plants["symengine"]
     rel = float(np.max(np.abs(a - b) / np.maximum(np.abs(a), 1e-300)))
     sy, se = statistics.median(times["sympy"]), statistics.median(times["symengine"])
-    return {"N": n, "exprs": len(nm._fn._exprs), "compile_plant": sy,
+    return {"N": n, "exprs": len(nm._fn.general._exprs), "compile_plant": sy,
             "compile_plant_with_symengine": se, "max_rel_diff": rel}
 
 
@@ -153,6 +166,42 @@ def lu_one(n: int) -> dict:
     return r
 
 
+def compare_one(n: int) -> dict:
+    import statistics
+
+    import numpy as np
+
+    import bondgraph as bg
+    from bench_chain import build
+    from bondgraph.numeric import _monomials
+
+    model = bg.derive(bg.assign_causality(build(n)), outputs={"v_last": bg.flow(f"m{n - 1}")})
+    model.state_space()
+    classify = _monomials.classify
+    times: dict = {"numpy": [], "lambdify": []}
+    values = {}
+    repeats = 3 if n <= 5000 else 1
+    for _ in range(repeats):
+        for label in ("numpy", "lambdify"):
+            if label == "lambdify":
+                _monomials.classify = lambda ex, index: ("general", None)
+            try:
+                t0 = time.perf_counter()
+                nm = bg.compile_plant(model, sparse=True)
+                times[label].append(time.perf_counter() - t0)
+            finally:
+                _monomials.classify = classify
+            t0 = time.perf_counter()
+            values[label] = nm.plant(_values(nm)).A.data
+            times.setdefault(label + "_plant", []).append(time.perf_counter() - t0)
+            if label == "numpy":
+                counts = dict(nm._fn.counts)
+    a, b = values["numpy"], values["lambdify"]
+    rel = float(np.max(np.abs(a - b) / np.maximum(np.abs(a), 1e-300)))
+    med = {k: statistics.median(v) for k, v in times.items()}
+    return {"N": n, "counts": counts, **med, "max_rel_diff": rel, "repeats": repeats}
+
+
 def _run(args: list[str]) -> dict:
     out = subprocess.run([sys.executable, __file__, *args], check=True, capture_output=True,
                          text=True).stdout
@@ -166,6 +215,21 @@ def main(argv: list[str]) -> None:
         return
     if argv and argv[0] == "--symengine-one":
         print(json.dumps(symengine_one(int(argv[1]))))
+        return
+    if argv and argv[0] == "--compare-one":
+        print(json.dumps(compare_one(int(argv[1]))))
+        return
+    if argv and argv[0] == "--compare":
+        print(f"{'N':>6} {'monomial':>8} {'sum':>5} {'general':>7} {'numpy s':>8} "
+              f"{'lambdify s':>10} {'speed-up':>8} {'plant s':>8} {'(lambdify)':>10} "
+              f"{'max rel diff':>12}")
+        for n in [int(a) for a in argv[1:]] or [1000, 5000]:
+            r = _run(["--compare-one", str(n)])
+            c = r["counts"]
+            print(f"{n:>6} {c['monomial']:>8} {c['sum']:>5} {c['general']:>7} "
+                  f"{r['numpy']:>8.3f} {r['lambdify']:>10.3f} "
+                  f"{r['lambdify'] / r['numpy']:>7.1f}x {r['numpy_plant']:>8.3f} "
+                  f"{r['lambdify_plant']:>10.3f} {r['max_rel_diff']:>12.1e}")
         return
     if argv and argv[0] == "--lu-one":
         print(json.dumps(lu_one(int(argv[1]))))
@@ -193,12 +257,15 @@ def main(argv: list[str]) -> None:
         mode, argv = argv[0][2:], argv[1:]
     sizes = [int(a) for a in argv] or [1000, 5000, 20000]
     print(f"{'N':>6} {'states':>6} {'sparse':>6} {'nnz A':>7} {'derive s':>9} {'compile s':>9} "
-          f"{'plant s':>8} {'FRF100 s':>9} {'peak MB':>8} (after derive / compile / plant)")
+          f"{'plant s':>8} {'FRF100 s':>9} {'peak MB':>8} {'total s':>8} {'compile CPU s':>13} "
+          f"{'total CPU s':>11} (peak MB after derive / compile / plant)")
     for n in sizes:
         r = _run(["--one", str(n), mode])
         print(f"{n:>6} {r['states']:>6} {str(r['sparse']):>6} {r['nnz_A']:>7} "
               f"{r['derive']:>9.3f} {r['compile']:>9.3f} {r['plant']:>8.3f} "
               f"{r['response']:>9.3f} {r['rss_response']:>8.0f} "
+              f"{r['derive'] + r['compile'] + r['plant'] + r['response']:>8.2f} "
+              f"{r['compile_cpu']:>13.3f} {r['cpu_total']:>11.2f} "
               f"({r['rss_derive']:.0f} / {r['rss_compile']:.0f} / {r['rss_plant']:.0f})")
 
 

@@ -24,6 +24,13 @@ denominator coefficients (a fraction's numerator and denominator both count).
     python bench/bench_tf.py --chains    # only the chain sizes (10 .. 20 states)
     python bench/bench_tf.py --slow      # also Berkowitz on the 14-state chain
     python bench/bench_tf.py --json      # machine-readable rows
+    python bench/bench_tf.py --modes 3 14   # the FLEXCAM series: hub_beam with 3 .. 14 modes
+
+``--modes`` runs the fully symbolic hub + modal beam (FLEXCAM's paper form,
+``hub_beam(n)``: 2 + 2n states, 5 + 5n symbols) from the first to the last
+number of modes, each in a fresh process, with the default term budget
+(``max_terms``): the rows give the time, the peak memory, the answer's terms
+and the time per term, or the refusal and the estimated bound.
 """
 
 from __future__ import annotations
@@ -161,6 +168,12 @@ MODELS = {"dc_motor": dc_motor, "hub_beam": hub_beam, "hub_beam_E": hub_beam_des
           **{f"chain{n}": (lambda n=n: chain(n)) for n in (5, 8, 9, 10)}}
 
 
+def _model(name: str):
+    if name.startswith("hub_beam") and name[len("hub_beam"):].isdigit():
+        return hub_beam(int(name[len("hub_beam"):]))
+    return MODELS[name]()
+
+
 def answer_terms(P) -> int:
     """Terms of a Poly's coefficients (polynomials, fractions or numbers)."""
     total = 0
@@ -184,15 +197,22 @@ def run_one(model: str, method: str, normalize: str) -> dict:
     from bondgraph.tf._algebra import backend_name
 
     t_import = time.perf_counter() - t0
-    A, B, C, D, *rest = MODELS[model]()
+    A, B, C, D, *rest = _model(model)
     E = rest[0] if rest else None
     syms = set()
     for M in (A, B, C, D) + tuple(rest):
         syms |= M.free_symbols
     import resource
 
+    from bondgraph.tf.errors import TermBudgetError
+
     t1 = time.perf_counter()
-    G = transfer_function(A, B, C, D, E=E, method=method, normalize=normalize)
+    try:
+        G = transfer_function(A, B, C, D, E=E, method=method, normalize=normalize)
+    except TermBudgetError as exc:
+        return {"model": model, "states": A.shape[0], "symbols": len(syms), "method": method,
+                "seconds": time.perf_counter() - t1, "note": "refused: " + str(exc)[:160],
+                "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}
     seconds = time.perf_counter() - t1
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     return {"model": model, "states": A.shape[0], "symbols": len(syms), "method": method,
@@ -229,7 +249,11 @@ def main(argv=None) -> int:
     ap.add_argument("--json", action="store_true", help="print JSON rows")
     ap.add_argument("--chains", action="store_true",
                     help="only the chains of 10 .. 20 states (both normalizations)")
+    ap.add_argument("--modes", nargs=2, type=int, metavar=("FIRST", "LAST"),
+                    help="the FLEXCAM series: hub_beam with FIRST .. LAST modes")
     args = ap.parse_args(argv)
+    if args.modes:
+        return _modes(*args.modes)
     if args.one:
         print(json.dumps(run_one(args.one, args.method, args.normalize)))
         return 0
@@ -248,6 +272,23 @@ def main(argv=None) -> int:
         configs.append((model, "auto", {"BONDGRAPH_TF_BACKEND": "sympy",
                                         "SYMPY_GROUND_TYPES": "flint"}))
     return _print([c + ("monic",) for c in configs] + chains, args.json)
+
+
+def _modes(first: int, last: int) -> int:
+    print(f"{'modes':>5} {'states':>6} {'symbols':>7} {'seconds':>8} {'peak MB':>8} "
+          f"{'num terms':>9} {'den terms':>9} {'us/term':>8}")
+    for n in range(first, last + 1):
+        r = spawn(f"hub_beam{n}", "auto", {"SYMPY_GROUND_TYPES": "flint"})
+        if "num_terms" not in r:
+            print(f"{n:>5} {r.get('states', ''):>6} {r.get('symbols', ''):>7} "
+                  f"{r['seconds']:>8.3f} {r.get('peak_mb', float('nan')):>8.0f}  "
+                  f"{r.get('note', '')}", flush=True)
+            continue
+        terms = r["num_terms"] + r["den_terms"]
+        print(f"{n:>5} {r['states']:>6} {r['symbols']:>7} {r['seconds']:>8.3f} "
+              f"{r['peak_mb']:>8.0f} {r['num_terms']:>9} {r['den_terms']:>9} "
+              f"{1e6 * r['seconds'] / terms:>8.1f}", flush=True)
+    return 0
 
 
 def _print(configs, as_json: bool) -> int:

@@ -89,13 +89,17 @@ class StateEquations:
     @property
     def parameters(self) -> tuple[sympy.Symbol, ...]:
         """Parameter symbols appearing in the equations, sorted by name."""
+        got = self._cache.get("parameters")      # frozen record: walk the equations once
+        if got is not None:
+            return got
         known = set(self.states) | set(self.inputs) | set(self.input_derivatives) | {T_SYM}
         syms = set()
         for ex in self.rhs + self.output_exprs:
             syms |= ex.free_symbols
         if self.descriptor is not None:
             syms |= self.descriptor[0].free_symbols
-        return tuple(sorted(syms - known, key=lambda s: s.name))
+        got = self._cache["parameters"] = tuple(sorted(syms - known, key=lambda s: s.name))
+        return got
 
     @property
     def known_parameters(self) -> tuple[str, ...]:
@@ -107,11 +111,15 @@ class StateEquations:
         out of a linearization).  Values given for these are accepted and
         ignored by every call that takes values (:mod:`bondgraph.parameters`).
         """
+        got = self._cache.get("known_parameters")
+        if got is not None:
+            return got
         names = {p.name for p in self.parameters} | set(self.declared_parameters)
         elements = self.augmented.flat.elements if self.augmented is not None else ()
         for el in elements:
             names |= {s.name for s in parameter_symbols(el)}
-        return tuple(sorted(names))
+        got = self._cache["known_parameters"] = tuple(sorted(names))
+        return got
 
     @property
     def equations(self) -> tuple[sympy.Eq, ...]:

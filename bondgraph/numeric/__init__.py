@@ -1,7 +1,8 @@
 """Numeric plants from derived models: evaluation, batches, simulation.
 
 * :func:`compile_plant` / :class:`NumericModel` -- a linear model's
-  ``A, B, C, D`` lambdified once; ``.plant(values)`` gives a
+  ``A, B, C, D`` compiled once (monomial entries by numpy, the rest
+  lambdified); ``.plant(values)`` gives a
   :class:`NumericStateSpace` (python-control, scipy, eigenvalues, frequency
   response), ``.batch(arrays)`` a :class:`BatchStateSpace` of many plants.
 * sparse plants (above :data:`SPARSE_THRESHOLD` states, or ``sparse=True``):

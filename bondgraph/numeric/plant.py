@@ -1,9 +1,13 @@
 """Numeric linear plants: symbolic A, B, C, D compiled once, evaluated many times.
 
-:func:`compile_plant` lambdifies the nonzero entries of the model's
-``A, B, C, D`` once (numpy, with common-subexpression elimination) into a
-:class:`NumericModel`: a fixed sparsity pattern per matrix and one function
-giving the vector of values. :meth:`NumericModel.plant` evaluates one parameter set
+:func:`compile_plant` compiles the nonzero entries of the model's
+``A, B, C, D`` once into a :class:`NumericModel`: a fixed sparsity pattern
+per matrix and one vector of values.  Entries that are monomials in the
+parameters (``-b/m``, ``1/C``, ``n*r``: nearly all of a bond-graph plant) or
+sums of monomials are evaluated together by numpy gathers and products,
+without generating code; only the other entries (each distinct one once) are
+lambdified, with common-subexpression elimination (see
+:mod:`bondgraph.numeric._monomials`). :meth:`NumericModel.plant` evaluates one parameter set
 into a :class:`NumericStateSpace`, :meth:`NumericModel.batch` evaluates
 thousands at once into a :class:`BatchStateSpace` (stacked ``(P, n, n)``
 arrays with batched eigenvalues and frequency responses).  Numbers are never
@@ -63,6 +67,7 @@ from ..equations import StateEquations
 from ..linear import derivative_form
 from .._support.sympify import parameter_symbols
 from ._compile import CompiledFunction, placeholders, user_functions
+from ._monomials import compile_entries
 from ..elements.fields.algebra import check_definite
 from ._linalg import freeze
 from .batch import BatchStateSpace, SparseBatchStateSpace
@@ -120,9 +125,9 @@ class NumericModel(_CompiledModel):
     """A linear model's ``A, B, C, D`` compiled to numpy once, for repeated evaluation.
 
     Only the nonzero entries are compiled: each matrix is a fixed
-    :class:`~bondgraph.numeric.sparse.Pattern` and one lambdified function
-    gives all their values at once (constant entries are stored, not
-    compiled).
+    :class:`~bondgraph.numeric.sparse.Pattern` and all their values come at
+    once from numpy products for the monomial entries and one lambdified
+    function for the others (constant entries are stored, not compiled).
 
     Parameters
     ----------
@@ -161,18 +166,16 @@ class NumericModel(_CompiledModel):
         mats, self._labels = _reduced_form(model)
         #: number of D_derivatives (and state_shift) matrices: 0 for an ordinary plant
         self._order = (len(mats) - 4) // 2
-        dummies = placeholders("p", len(self._params))
-        swap = dict(zip(self._params, dummies))
         patterns, var_pos, exprs, const_pos, const_val = [], [], [], [], []
         pos = 0
         for k, M in enumerate(mats):
-            items = sorted(M.todok().items())
+            items = sorted(_entries(M).items())
             patterns.append(Pattern.from_coordinates(M.shape, [i for (i, _), _ in items],
                                                      [j for (_, j), _ in items]))
             for (i, j), ex in items:
-                if ex.free_symbols:
+                if not ex.is_Number and (_has_symbol_factor(ex) or ex.free_symbols):
                     var_pos.append(pos)
-                    exprs.append(ex.xreplace(swap))
+                    exprs.append(ex)
                 else:
                     const_pos.append(pos)
                     const_val.append(_real_constant(ex, self._labels[k], i, j, model.name))
@@ -182,9 +185,11 @@ class NumericModel(_CompiledModel):
         self._var_pos = np.array(var_pos, dtype=np.int64)
         self._const_pos = np.array(const_pos, dtype=np.int64)
         self._const_val = np.array(const_val, dtype=float)
-        self._fn = CompiledFunction(dummies, exprs) if exprs else None
+        #: the symbolic entries: monomials and sums of them by numpy, the rest lambdified
+        self._fn = compile_entries(self._params, exprs) if exprs else None
         #: fields whose matrix has symbolic entries: checked definite at every evaluation
-        self._definite = _definite_checks(model, swap, dummies)
+        self._definite = _definite_checks(model, self._params)
+        self._known: Optional[tuple[str, ...]] = None
 
     def __repr__(self) -> str:
         return (f"NumericModel({self._model.name!r}: {len(self.state_names)} states, "
@@ -194,6 +199,12 @@ class NumericModel(_CompiledModel):
     def parameters(self) -> tuple[sympy.Symbol, ...]:
         """Parameter symbols in the order of :attr:`parameter_names`."""
         return self._params
+
+    def _known_parameters(self) -> tuple[str, ...]:
+        # Model.known_parameters walks every equation: once per compiled model, not per plant
+        if self._known is None:
+            self._known = self._model.known_parameters
+        return self._known
 
     @property
     def patterns(self) -> tuple[Pattern, ...]:
@@ -219,14 +230,7 @@ class NumericModel(_CompiledModel):
         vals[..., self._const_pos] = self._const_val
         if self._fn is not None:
             with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-                out = self._fn(*columns)
-            if size is None:
-                vals[self._var_pos] = out
-            else:
-                stack = np.empty((len(out), size))
-                for r, v in enumerate(out):
-                    stack[r] = v
-                vals[:, self._var_pos] = stack.T
+                vals[..., self._var_pos] = self._fn.evaluate(columns, size)
         return vals
 
     def _check_finite(self, vals: np.ndarray, values: np.ndarray, batch: bool) -> None:
@@ -286,7 +290,7 @@ class NumericModel(_CompiledModel):
         """
         as_sparse = self._is_sparse(sparse)
         vec = resolve_parameters(self._params, values, model=self._model.name,
-                                 known=self._model.known_parameters)
+                                 known=self._known_parameters())
         vals = self._evaluate([np.float64(v) for v in vec], None)
         self._check_definite([np.float64(v) for v in vec], None)
         self._check_finite(vals, vec, False)
@@ -325,7 +329,7 @@ class NumericModel(_CompiledModel):
         """
         as_sparse = self._is_sparse(sparse)
         arr = resolve_batch(self._params, values, model=self._model.name,
-                            known=self._model.known_parameters)
+                            known=self._known_parameters())
         size = arr.shape[0]
         vals = self._evaluate([arr[:, j] for j in range(arr.shape[1])], size)
         self._check_definite([arr[:, j] for j in range(arr.shape[1])], size)
@@ -364,16 +368,39 @@ def _reduced_form(model: StateEquations) -> tuple[list, list[str]]:
     return [sympy.ImmutableSparseMatrix(M) for M in mats], labels
 
 
-def _definite_checks(model: StateEquations, swap: dict, dummies: Sequence[sympy.Symbol]) -> tuple:
+def _definite_checks(model: StateEquations, params: Sequence[sympy.Symbol]) -> tuple:
     """``(element, compiled entries, n)`` of every element with a symbolic matrix that must
     be positive (semi-)definite (the multiport fields: ``matrix`` and ``definite``)."""
     found = []
+    swap = dummies = None
     for el in (model.augmented.flat.elements if model.augmented is not None else ()):
         M = getattr(el, "matrix", None)
         if M is None or not hasattr(el, "definite") or not M.free_symbols:
             continue
+        if dummies is None:
+            dummies = placeholders("p", len(params))
+            swap = dict(zip(params, dummies))
         found.append((el, CompiledFunction(dummies, [e.xreplace(swap) for e in M]), M.rows))
     return tuple(found)
+
+
+def _entries(M: sympy.ImmutableSparseMatrix) -> dict:
+    """``{(i, j): entry}`` of the nonzero entries (``M.todok()``, read straight from the
+    sparse domain matrix when its domain holds plain expressions: 10x faster)."""
+    rep = getattr(M, "_rep", None)
+    if rep is not None and str(rep.domain) == "EXRAW" and isinstance(getattr(rep, "rep", None), dict):
+        return {(i, j): v for i, row in rep.rep.items() for j, v in row.items()}   # no zeros
+    return M.todok()
+
+
+def _has_symbol_factor(ex: sympy.Expr) -> bool:
+    """A cheap sufficient test that ``ex`` is not constant: a symbol, or a product or sum
+    with a symbol (or a power of one) among its arguments."""
+    if ex.is_Symbol:
+        return True
+    if ex.is_Mul or ex.is_Add:
+        return any(a.is_Symbol or (a.is_Pow and a.base.is_Symbol) for a in ex.args)
+    return False
 
 
 def _elements_using(model: StateEquations, names: Sequence[str]) -> str:

@@ -5,7 +5,7 @@ D`` as ``scipy.sparse`` CSR arrays (``compile_plant(model, sparse=...)`` or
 ``plant(values, sparse=...)`` choose otherwise).  :func:`compile_plant
 <bondgraph.numeric.compile_plant>` compiles only the nonzero entries: each
 matrix is a :class:`Pattern` (where the entries are, fixed for the model)
-and a vector of values (one lambdified function for all of them), so a dense
+and a vector of values (computed together for all of them), so a dense
 plant is filled from the pattern and a sparse one is the pattern and the
 values, with no dense ``n x n`` intermediate.
 

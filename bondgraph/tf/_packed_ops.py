@@ -73,14 +73,26 @@ def clear_terms(polys: Sequence[Terms], enc: EncodedSystem) -> list[Terms]:
 
 
 def _merge(exps: np.ndarray, coeffs: list) -> tuple[np.ndarray, list]:
-    """Sum the coefficients of equal rows; drop zero sums."""
-    sums: dict[tuple, object] = {}
-    for row, c in zip(map(tuple, exps.tolist()), coeffs):
-        sums[row] = sums.get(row, 0) + c
-    keep = [(row, c) for row, c in sums.items() if c]
+    """Sum the coefficients of equal rows; drop zero sums.  Rows stay in the order of
+    their first occurrence (as a dict of the rows would keep them); vectorised: the
+    rows grouped by ``numpy.unique``, the (exact, Python) coefficients added per group
+    by ``numpy.add.reduceat`` on an object array."""
+    if not len(coeffs):
+        return np.zeros((0, exps.shape[1]), dtype=exps.dtype), []
+    rows = np.ascontiguousarray(exps)
+    keys = rows.view(np.dtype((np.void, rows.dtype.itemsize * rows.shape[1]))).ravel()
+    _, first, inv = np.unique(keys, return_index=True, return_inverse=True)
+    inv = inv.ravel()
+    order = np.argsort(inv, kind="stable")
+    starts = np.flatnonzero(np.r_[True, np.diff(inv[order]) != 0])
+    vals = np.empty(len(coeffs), dtype=object)
+    vals[:] = coeffs
+    sums = np.add.reduceat(vals[order], starts)
+    groups = np.argsort(first, kind="stable")          # first-occurrence order
+    keep = [g for g in groups.tolist() if sums[g]]
     if not keep:
         return np.zeros((0, exps.shape[1]), dtype=exps.dtype), []
-    return np.array([r for r, _ in keep], dtype=exps.dtype), [c for _, c in keep]
+    return rows[first[keep]], [sums[g] for g in keep]
 
 
 def _coprime_in_s(num: Terms, den: Terms) -> bool:

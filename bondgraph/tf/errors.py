@@ -27,6 +27,7 @@ __all__ = [
     "MissingValueError",
     "InvalidOptionError",
     "MatrixEntryError",
+    "TermBudgetError",
 ]
 
 
@@ -52,3 +53,7 @@ class InvalidOptionError(TransferFunctionError):
 
 class MatrixEntryError(TransferFunctionError):
     """A matrix entry cannot be used (contains ``s``, is not finite, ...)."""
+
+
+class TermBudgetError(TransferFunctionError):
+    """The expanded transfer function would exceed its term budget (``max_terms``)."""

@@ -47,6 +47,7 @@ from typing import Sequence
 import sympy as sp
 
 from . import _algebra as alg
+from ._budget import DEFAULT_MAX_TERMS, check_budget
 from ._checks import (METHODS, NORMALIZATIONS, Normalize, _check_options, _check_shapes,
                       resolve_signal, _signal_names)
 from ._convert import _Converter
@@ -74,10 +75,11 @@ def _prepare(A, B, C, D, E, input_names, output_names, s, normalize, method):
     return A, B, C, D, E, ins, outs, s
 
 
-def _compute(A, B, C, D, E, s, method, backend):
+def _compute(A, B, C, D, E, s, method, backend, max_terms=None, what="transfer function"):
     enc = alg.encode_system(A, B, C, D, E, s, backend=backend)
     ring = enc.ring
     p, m = C.shape[0], B.shape[1]
+    check_budget(enc, [(i, j) for i in range(p) for j in range(m)], max_terms, what)
     if method != "berkowitz" and can_pack(enc):
         # fast path: packed determinants, results as exponent arrays (see _packed)
         den, flat = packed_determinants(enc, [(i, j) for i in range(p) for j in range(m)],
@@ -112,7 +114,8 @@ def transfer_function(A, B, C, D=None, *, E=None, input: str | int | None = None
                       output_names: Sequence[str] | None = None,
                       s: sp.Symbol | None = None, normalize: Normalize = "monic",
                       cancel: bool = True, method: str = "auto",
-                      backend: str | None = None) -> SymbolicTF:
+                      backend: str | None = None,
+                      max_terms: int | None = DEFAULT_MAX_TERMS) -> SymbolicTF:
     """Symbolic ``G(s) = C_i (sE - A)^{-1} B_j + D_ij`` for one input/output.
 
     Parameters
@@ -153,6 +156,12 @@ def transfer_function(A, B, C, D=None, *, E=None, input: str | int | None = None
     backend
         Polynomial arithmetic: ``'flint'`` (python-flint, default when
         installed) or ``'sympy'``.
+    max_terms
+        Term budget: before expanding, the number of terms of ``det(sE - A)``
+        and of the numerator is bounded from the sparsity and the terms of
+        each entry (:mod:`bondgraph.tf._budget`); past ``max_terms``
+        (default 30,000,000) the call is refused with
+        :class:`~bondgraph.tf.errors.TermBudgetError`.  ``None``: no budget.
 
     Returns
     -------
@@ -161,7 +170,7 @@ def transfer_function(A, B, C, D=None, *, E=None, input: str | int | None = None
     Raises
     ------
     ShapeError, UnknownSignalError, SingularPencilError, MatrixEntryError,
-    InvalidOptionError
+    InvalidOptionError, TermBudgetError
         All ``ValueError`` subclasses, naming the argument at fault.
 
     Examples
@@ -183,7 +192,8 @@ def transfer_function(A, B, C, D=None, *, E=None, input: str | int | None = None
     j = resolve_signal(input, ins, "input")
     i = resolve_signal(output, outs, "output")
     with paused_gc():
-        enc, den, nums = _compute(A, B[:, j], C[i, :], D[i, j:j + 1], E, s, method, backend)
+        enc, den, nums = _compute(A, B[:, j], C[i, :], D[i, j:j + 1], E, s, method, backend,
+                                  max_terms, f"transfer function {ins[j]} -> {outs[i]}")
         return _entry(_Converter(enc.ring, enc.params), nums[0][0], den, s, ins[j], outs[i],
                       normalize, cancel=cancel)
 
@@ -191,7 +201,8 @@ def transfer_function(A, B, C, D=None, *, E=None, input: str | int | None = None
 def transfer_matrix(A, B, C, D=None, *, E=None, input_names: Sequence[str] | None = None,
                     output_names: Sequence[str] | None = None, s: sp.Symbol | None = None,
                     normalize: Normalize = "monic", method: str = "auto",
-                    backend: str | None = None) -> TransferMatrix:
+                    backend: str | None = None,
+                    max_terms: int | None = DEFAULT_MAX_TERMS) -> TransferMatrix:
     """All input/output transfer functions over the shared ``det(sE - A)``.
 
     Same arguments as :func:`transfer_function` (without ``input``/``output``
@@ -217,6 +228,9 @@ def transfer_matrix(A, B, C, D=None, *, E=None, input_names: Sequence[str] | Non
         ``'berkowitz'``.
     backend
         Polynomial arithmetic: ``'flint'`` or ``'sympy'``.
+    max_terms
+        Term budget of the shared denominator and all the numerators
+        together, as in :func:`transfer_function`.
 
     Returns
     -------
@@ -235,7 +249,7 @@ def transfer_matrix(A, B, C, D=None, *, E=None, input_names: Sequence[str] | Non
     A, B, C, D, E, ins, outs, s = _prepare(A, B, C, D, E, input_names, output_names, s,
                                            normalize, method)
     with paused_gc():
-        enc, den, nums = _compute(A, B, C, D, E, s, method, backend)
+        enc, den, nums = _compute(A, B, C, D, E, s, method, backend, max_terms, "transfer matrix")
         conv = _Converter(enc.ring, enc.params)
         flat = [x for row in nums for x in row]
         Pd, Pns = normalize_terms(conv, den, flat, normalize, s)

@@ -213,7 +213,8 @@ def test_compiled_once_and_never_substituted(motor, monkeypatch):
 
     monkeypatch.setattr(sympy, "lambdify", counting)
     plant = compile_plant(motor)
-    assert calls == [True]
+    assert calls in ([], [True])      # monomial entries are not lambdified at all
+    before = list(calls)
 
     def forbidden(*args, **kwargs):
         raise AssertionError("sympy must not be used while evaluating a compiled plant")
@@ -223,7 +224,7 @@ def test_compiled_once_and_never_substituted(motor, monkeypatch):
     monkeypatch.setattr(sympy.Expr, "evalf", forbidden)
     plant.plant(VALUES)
     plant.batch({k: [v, 2 * v] for k, v in VALUES.items()})
-    assert calls == [True]
+    assert calls == before
 
 
 # ----------------------------------------------------------------------------- batches
