@@ -225,7 +225,7 @@ def linear_plant(args, model, values: Mapping[str, float], point=None):
 def _trim(args, model, values, inputs, guess, fixed):
     """``model.equilibrium`` with its errors naming where the values came from."""
     from ..errors import ParameterValueError
-    from ..operating import EquilibriumError
+    from ..linear import EquilibriumError
 
     try:
         return model.equilibrium(values, inputs, guess=guess, fixed=fixed)

@@ -1,4 +1,4 @@
-"""Numerics of :func:`bondgraph.operating.equilibrium`: checks, Jacobians, scaling, solvers.
+"""Numerics of :func:`bondgraph.linear.equilibrium`: checks, Jacobians, scaling, solvers.
 
 The state equations ``f(x, u)`` of a physical model mix units: an SI
 hydraulic circuit has compliances of 1e-14 and pressures of 1e7, the same
