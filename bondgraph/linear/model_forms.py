@@ -196,9 +196,16 @@ def linearize(eqs: StateEquations, x0=None, u0=None, *, equilibrium: bool = True
 
     point.update(dict.fromkeys(eqs.input_derivatives, sympy.S.Zero))   # u constant there
 
+    def d(ex, v):
+        # sign(g)' stays an unevaluated Derivative when sympy cannot tell g is real; it is
+        # 2 DiracDelta(g) g', 0 away from the jump (a Derivative cannot take a number)
+        return sympy.diff(ex, v).replace(
+            lambda a: isinstance(a, sympy.Derivative) and isinstance(a.expr, sympy.sign),
+            lambda a: sympy.S.Zero)
+
     def jac(exprs, wrt):
         return sympy.ImmutableMatrix(len(exprs), len(wrt), lambda i, j: sympy.simplify(
-            sympy.diff(exprs[i], wrt[j]).xreplace(point)))
+            d(exprs[i], wrt[j]).xreplace(point)))
     return SymbolicStateSpace(jac(eqs.rhs, x), jac(eqs.rhs, u), jac(eqs.output_exprs, x),
                               jac(eqs.output_exprs, u), eqs.state_names, eqs.input_names,
                               eqs.output_names, known_parameters=eqs.known_parameters,
