@@ -9,8 +9,10 @@ gets the guarantees the built-in elements have by calling
 >>> report = check_element(lambda name: bg.R(name))
 >>> print(report)
 R:x conforms: 7 checks; causal patterns derived: effort-in on port 1; flow-in on port 1
->>> report.causalities
-(((True,), 'arbitrary'), ((False,), 'arbitrary'))
+>>> report.causalities          # a source fixes the R's causality: not an arbitrary choice
+(((True,), None), ((False,), None))
+>>> dict(check_element(bg.I).causalities)
+{(True,): 'integral', (False,): 'derivative'}
 
 The checks (each a function of this module, runnable alone):
 
