@@ -80,6 +80,9 @@ def cmd_tf(args) -> None:
         ss = _op.linear_plant(args, model, values, point)       # numeric plant at the point
         matrices = [sympy.Matrix(M.tolist()) if M.size else sympy.zeros(*M.shape)
                     for M in (ss.A, ss.B, ss.C, ss.D)]
+        matrices[3] = _with_derivatives(matrices[3], [sympy.Matrix(M.tolist()) if M.size else
+                                                      sympy.zeros(*M.shape)
+                                                      for M in ss.D_derivatives])
         values = {}
     elif _linear(args):                                      # symbolic, at the file's point
         x0, u0 = _op.file_point(args, model, point)
@@ -89,7 +92,7 @@ def cmd_tf(args) -> None:
             message = str(exc).split("; pass equilibrium=False")[0]
             raise CLIError(f"{message}; an operating point that holds only at some parameter "
                            "values is checked there with --numeric") from None
-        matrices = [ss.A, ss.B, ss.C, ss.D]
+        matrices = [ss.A, ss.B, ss.C, _with_derivatives(ss.D, ss.D_derivatives)]
     else:
         try:
             ss = model.state_space()
@@ -148,6 +151,18 @@ def _print_tf(G, values) -> None:
     if table.rows:
         print()
         print(table)
+
+
+def _with_derivatives(D, D_derivatives):
+    """``D + D_1 s + D_2 s^2 + ...``: a linearized output that needs input derivatives keeps
+    them in its transfer function (``s`` is the transfer functions' default symbol)."""
+    import sympy
+
+    s = sympy.Symbol("s")
+    total = sympy.Matrix(D)
+    for k, M in enumerate(D_derivatives, start=1):
+        total += sympy.Matrix(M) * s ** k
+    return total
 
 
 # --------------------------------------------------------------------------- export

@@ -215,11 +215,26 @@ def linear_plant(args, model, values: Mapping[str, float], point=None):
         inputs = _pairs(args.input_value, list(model.input_names), "--input-value", "input")
         guess = _pairs(args.guess, states, "--guess", "state")
         fixed = _pairs(args.fix, states, "--fix", "state")
-        eq = model.equilibrium(values, inputs, guess=guess, fixed=fixed)
-        _note(f"trim ({eq.method})", eq.states, eq.inputs)
+        eq = _trim(args, model, values, inputs, guess, fixed)
+        _note(f"trim ({eq.method}, {eq.stability}; {eq.how})", eq.states, eq.inputs)
         return model.linearize(eq)
     x0, u0 = file_point(args, model, point)
     return model.linearize(x0, u0, values=values)
+
+
+def _trim(args, model, values, inputs, guess, fixed):
+    """``model.equilibrium`` with its errors naming where the values came from."""
+    from ..errors import ParameterValueError
+    from ..linear import EquilibriumError
+
+    try:
+        return model.equilibrium(values, inputs, guess=guess, fixed=fixed)
+    except ParameterValueError as exc:
+        source = (f"params file '{args.params}'" if getattr(args, "params", None) else
+                  "the model file's parameter values")
+        raise ParameterValueError(f"--trim at the values of the {source}: {exc}") from None
+    except EquilibriumError as exc:
+        raise EquilibriumError(f"--trim: {exc}") from None
 
 
 def file_point(args, model, point=None) -> tuple[dict, dict]:

@@ -178,6 +178,11 @@ class TwoPort(Element):
 class TF(TwoPort):
     """Transformer: ``e1 = n*e2``, ``f2 = n*f1`` (port 1 = bond in).
 
+    The modulus multiplies the *flow* from port 1 to port 2, so a gearbox
+    that reduces the speed N times (motor on port 1, load on port 2,
+    ``w_load = w_motor/N``, ``T_load = N T_motor``) is ``TF("gear", 1/N)``;
+    ``TF("gear", N)`` is an N-fold speed-up.
+
     ``efficiency=eta`` makes it lossy the way servo-motor data sheets do
     (Quanser SRV-02 gearbox): ``f2 = n*f1`` still, but ``e2 = eta*e1/n``, so
     the power out of port 2 is ``eta`` times the power into port 1.  This is
@@ -185,8 +190,8 @@ class TF(TwoPort):
 
     Examples
     --------
-    >>> TF("gear", 14).modulus
-    14
+    >>> TF("gear", sympy.Rational(1, 14)).modulus        # a 14:1 reduction
+    1/14
     """
 
     kind: ClassVar[str] = "TF"

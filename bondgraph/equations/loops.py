@@ -21,6 +21,7 @@ from sympy.polys.matrices import DomainMatrix
 from sympy.polys.matrices.exceptions import DMNonInvertibleMatrixError
 from sympy.polys.polyerrors import CoercionFailed
 
+from .._support.zero import reduced
 from ..errors import AlgebraicLoopError
 
 __all__ = ["SingularLoopError", "compact_linear", "field_matrix", "solve_blocks"]
@@ -142,6 +143,8 @@ def solve_blocks(unknowns: dict[sympy.Symbol, sympy.Expr], *, knowns: set, what:
         for i, (u, ex) in enumerate(zip(block, eqs)):
             for j, w in enumerate(block):
                 a = sympy.diff(ex, w)
+                if a.free_symbols & set(block):
+                    a = reduced(a)          # zero coefficients of unknowns, decided exactly
                 if a.free_symbols & set(block):
                     raise AlgebraicLoopError(
                         f"model {model!r}: the {what} in {', '.join(map(str, block))} "

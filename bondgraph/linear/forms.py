@@ -16,6 +16,7 @@ from .._support.gcpause import with_paused_gc
 from ..errors import NonlinearModelError
 from ..signals import t as T_SYM
 from .._support.sympify import as_expr
+from .._support.zero import is_zero, reduced
 
 if TYPE_CHECKING:
     from ..equations import StateEquations
@@ -132,18 +133,21 @@ def linear_form(exprs, x, u, model: StateEquations, what: str, lhs: str, ud=None
                 f"form{hint}"
             )
         if not free & variables:
-            if ex != 0:
+            if ex != 0 and not is_zero(ex):
                 raise NonlinearModelError(
                     f"model {model.name!r}: {what} {i + 1} ({lhs}) has the constant term {ex}; "
                     "model constant loads as sources (inputs)")
             continue
         coeffs: dict[sympy.Symbol, list] = {}
+        constants = [term for term, tfree in zip(terms, term_free) if not tfree & variables]
+        if constants and not is_zero(sympy.Add(*constants)):
+            raise NonlinearModelError(
+                f"model {model.name!r}: {what} {i + 1} ({lhs}) has the constant term "
+                f"{sympy.Add(*constants)}; model constant loads as sources (inputs)")
         for term, tfree in zip(terms, term_free):
             vs = tfree & variables
             if not vs:
-                raise NonlinearModelError(
-                    f"model {model.name!r}: {what} {i + 1} ({lhs}) has the constant term {term}; "
-                    "model constant loads as sources (inputs)")
+                continue
             if len(vs) == 1:
                 (v,) = vs
                 if term == v:
@@ -157,12 +161,14 @@ def linear_form(exprs, x, u, model: StateEquations, what: str, lhs: str, ud=None
             for v in vs:  # general term: differentiate, then check linearity
                 d = sympy.diff(term, v)
                 if d.free_symbols & variables:
+                    d = reduced(d)          # a coefficient that vanishes identically goes
+                if d.free_symbols & variables:
                     raise NonlinearModelError(
                         f"model {model.name!r}: {what} {i + 1} ({lhs}) is nonlinear in {v}: "
                         f"d/d{v} = {d}; use a linearization about an operating point")
                 coeffs.setdefault(v, []).append(d)
             rest_term = term.xreplace({v: 0 for v in vs})
-            if rest_term != 0:
+            if rest_term != 0 and not is_zero(rest_term):
                 raise NonlinearModelError(
                     f"model {model.name!r}: {what} {i + 1} ({lhs}) has the constant term "
                     f"{rest_term}; model constant loads as sources (inputs)")

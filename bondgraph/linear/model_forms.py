@@ -175,7 +175,8 @@ def linearize(eqs: StateEquations, x0=None, u0=None, *, equilibrium: bool = True
     x, u = eqs.states, eqs.inputs
     point = {**point_values(eqs, x0, x, "state"), **point_values(eqs, u0, u, "input")}
     bad = set(eqs.input_derivatives) | {T_SYM}
-    for ex in eqs.rhs + eqs.output_exprs:
+    for ex in eqs.rhs + tuple(o.xreplace(dict.fromkeys(eqs.input_derivatives, 0))
+                              for o in eqs.output_exprs):
         if ex.free_symbols & bad:
             raise NonlinearModelError(
                 f"model {eqs.name!r} depends on {', '.join(map(str, ex.free_symbols & bad))}; "
@@ -191,9 +192,21 @@ def linearize(eqs: StateEquations, x0=None, u0=None, *, equilibrium: bool = True
                     f"d{s_.name}/dt = {val} there (tol={tol:g}); pass equilibrium=False "
                     "to linearize about a non-equilibrium point")
 
+    from .operating import output_derivative_feedthrough
+
+    point.update(dict.fromkeys(eqs.input_derivatives, sympy.S.Zero))   # u constant there
+
+    def d(ex, v):
+        # sign(g)' stays an unevaluated Derivative when sympy cannot tell g is real; it is
+        # 2 DiracDelta(g) g', 0 away from the jump (a Derivative cannot take a number)
+        return sympy.diff(ex, v).replace(
+            lambda a: isinstance(a, sympy.Derivative) and isinstance(a.expr, sympy.sign),
+            lambda a: sympy.S.Zero)
+
     def jac(exprs, wrt):
         return sympy.ImmutableMatrix(len(exprs), len(wrt), lambda i, j: sympy.simplify(
-            sympy.diff(exprs[i], wrt[j]).xreplace(point)))
+            d(exprs[i], wrt[j]).xreplace(point)))
     return SymbolicStateSpace(jac(eqs.rhs, x), jac(eqs.rhs, u), jac(eqs.output_exprs, x),
                               jac(eqs.output_exprs, u), eqs.state_names, eqs.input_names,
-                              eqs.output_names, known_parameters=eqs.known_parameters)
+                              eqs.output_names, known_parameters=eqs.known_parameters,
+                              D_derivatives=output_derivative_feedthrough(eqs, jac))

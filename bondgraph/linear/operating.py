@@ -65,9 +65,28 @@ class Equilibrium:
     values : mapping of name to float
         The parameter values it holds for.
     residual : float
-        ``max |f(x0, u0)|``.
+        ``max |f(x0, u0)|`` (in the model's units).
     method : {"exact", "numeric"}
         sympy's solution (evaluated to float) or :func:`scipy.optimize.root`.
+    how : str
+        The method in words: the solver, its Jacobian and its start (the
+        guess, a homotopy in the inputs, or one of several starts).
+    scaled_residual : float
+        The largest ``|f_i|`` divided by the size of equation ``i`` (the sum
+        of its terms' magnitudes, or the scale the equilibrated Jacobian gives
+        it); independent of the units.  It is at most ``tol``.
+    condition : float
+        Condition number of the Jacobian of the free states after row and
+        column equilibration (independent of the units).
+    jacobian : str
+        ``"symbolic"`` (lambdified ``df/dx``), or ``"finite differences"``
+        when the symbolic Jacobian could not be evaluated.
+    eigenvalues : tuple of complex
+        Of ``df/dx`` at the point (every state).
+    stability : {"stable", "unstable", "marginal", "unknown"}
+        From the eigenvalues' real parts (``"marginal"``: one on the
+        imaginary axis, such as the angle of a free shaft; ``"unknown"``: ``df/dx`` is
+        not finite at the point, as for a square-root orifice at zero flow).
     """
 
     states: Mapping[str, float]
@@ -75,14 +94,29 @@ class Equilibrium:
     values: Mapping[str, float] = field(repr=False)
     residual: float = 0.0
     method: str = "numeric"
+    how: str = field(default="", repr=False)
+    scaled_residual: float = field(default=0.0, repr=False)
+    condition: float = field(default=math.nan, repr=False)
+    jacobian: str = field(default="symbolic", repr=False)
+    eigenvalues: tuple = field(default=(), repr=False)
+    stability: str = "unknown"
 
     def __post_init__(self) -> None:
         for name in ("states", "inputs", "values"):
             object.__setattr__(self, name, MappingProxyType(dict(getattr(self, name))))
+        object.__setattr__(self, "eigenvalues", tuple(complex(v) for v in self.eigenvalues))
 
     def __reduce__(self):
-        return (Equilibrium, (dict(self.states), dict(self.inputs), dict(self.values),
-                              self.residual, self.method))
+        return (_rebuild, (dict(self.states), dict(self.inputs), dict(self.values),
+                           self.residual, self.method, self.how, self.scaled_residual,
+                           self.condition, self.jacobian, self.eigenvalues, self.stability))
+
+
+def _rebuild(states, inputs, values, residual, method, how="", scaled_residual=0.0,
+             condition=math.nan, jacobian="symbolic", eigenvalues=(), stability="unknown"):
+    return Equilibrium(states, inputs, values, residual, method, how=how,
+                       scaled_residual=scaled_residual, condition=condition, jacobian=jacobian,
+                       eigenvalues=eigenvalues, stability=stability)
 
 
 def _named(model: "Model", given: Optional[Mapping], symbols, what: str) -> dict[sympy.Symbol, float]:
@@ -119,7 +153,9 @@ def equilibrium(model: "Model", values: ParameterValues, inputs: Optional[Mappin
         States held at a value and left out of the solve (states that no
         equation determines, such as the angle of a free shaft).
     tol : float
-        Largest accepted ``|f|`` at the solution.
+        Largest accepted scaled residual: each ``|f_i|`` divided by the size
+        of equation ``i`` (see :attr:`Equilibrium.scaled_residual`), so the
+        test does not depend on the units.  A finite number > 0.
     exact : bool
         Try sympy's exact solver first for up to :data:`EXACT_MAX_STATES`
         free states of polynomial equations.
@@ -152,7 +188,12 @@ def equilibrium(model: "Model", values: ParameterValues, inputs: Optional[Mappin
     >>> round(eq.states["p_J"] / 0.01, 9)      # omega = 0.1*12/(0.01 + 2e-3)
     100.0
     """
+    from . import trim as _trim
+
     where = f"model {model.name!r}: "
+    tol = _trim.check_tol(tol, where, EquilibriumError)
+    for option, given in (("inputs", inputs), ("guess", guess), ("fixed", fixed)):
+        _trim.check_mapping(given, option, where, EquilibriumError)
     exprs = list(model.rhs)
     bad = set(model.input_derivatives) | {T_SYM}
     for ex in exprs:
@@ -169,45 +210,78 @@ def equilibrium(model: "Model", values: ParameterValues, inputs: Optional[Mappin
     free = [x for x in model.states if x not in held]
     if not free:
         raise EquilibriumError(f"{where}every state is fixed; nothing to solve")
-    known = {**pvals, **u0, **held}
-    eqs = [ex.xreplace(known) for ex in exprs]
-    x_start = np.array([start.get(x, 0.0) for x in free])
-    solution, method = None, "numeric"
-    if exact and len(free) <= EXACT_MAX_STATES:
-        solution = _exact(eqs, free, x_start)
-        method = "exact" if solution is not None else method
-    f = sympy.lambdify([free], eqs, modules="numpy")
-    jac = sympy.lambdify([free], sympy.Matrix(eqs).jacobian(free), modules="numpy")
-
-    def fun(x):
-        return np.asarray(f(x), dtype=float)
-
-    if solution is None:
-        from scipy.optimize import root
-
-        with warnings.catch_warnings(), np.errstate(all="ignore"):
-            warnings.simplefilter("ignore", RuntimeWarning)
-            sol = root(fun, x_start, jac=lambda x: np.asarray(jac(x), dtype=float), tol=tol * 1e-2)
-        solution = np.asarray(sol.x, dtype=float)
-    res = fun(solution)
-    residual = float(np.max(np.abs(res))) if res.size else 0.0
-    if not np.all(np.isfinite(solution)) or not math.isfinite(residual) or residual > tol:
-        raise EquilibriumError(
-            f"{where}no equilibrium found from the guess "
-            f"({', '.join(f'{x.name}={v:g}' for x, v in zip(free, x_start))}): the residual "
-            f"max|f| reached {residual:.3g} > tol={tol:g}; give another guess=, or check that "
-            "the inputs admit an equilibrium (a constant force on a free mass has none)")
-    J = np.asarray(jac(solution), dtype=float)
-    if J.size and np.linalg.matrix_rank(J, tol=1e-9 * max(1.0, np.abs(J).max())) < len(free):
-        loose = _undetermined(J, free)
+    eqs_p = [ex.xreplace(pvals) for ex in exprs]
+    _trim.check_finite_equations(model, eqs_p, pvals, where)
+    states, ins = list(model.states), list(model.inputs)
+    system = _trim.Equations(eqs_p, states, ins, [u0[u] for u in ins], where)
+    free_idx = [states.index(x) for x in free]
+    x_start = np.array([held.get(x, start.get(x, 0.0)) for x in states])
+    found, how, tried, failure = None, "", [], None
+    if exact and len(free) <= EXACT_MAX_STATES and len(free) == len(states):
+        known = {**u0, **held}
+        solution = _exact([ex.xreplace(known) for ex in eqs_p], free, x_start[free_idx])
+        if solution is not None:
+            x_full = x_start.copy()
+            x_full[free_idx] = solution
+            a = _trim.assess(system, x_full, free_idx)
+            if a.scaled_residual <= tol:
+                found, how = a, "exact: sympy.solve, the real solution nearest the guess"
+            tried.append("sympy.solve (exact)")
+    method = "exact" if found is not None else "numeric"
+    if found is None:
+        found, how, more, failure = _trim.solve(system, x_start, free_idx, tol)
+        tried += more
+    if found is None:
+        raise EquilibriumError(_failure(where, states, free, x_start, failure, tried, tol, held))
+    if not system.differentiable_at(found.x):
+        # f(x) = 0 holds, but df/dx does not exist there: neither isolation nor stability
+        # can be read from a Jacobian; the point is returned, and says so
+        return Equilibrium({x.name: float(v) for x, v in zip(states, found.x)},
+                           {u.name: float(v) for u, v in u0.items()},
+                           {p.name: v for p, v in pvals.items()}, found.max_residual, method,
+                           how=how + "; df/dx is not finite at this point (a law with an "
+                           "infinite slope there, such as sqrt at 0): its isolation and "
+                           "stability are not decided", scaled_residual=found.scaled_residual,
+                           condition=math.inf, jacobian="not finite at the point",
+                           eigenvalues=(), stability="unknown")
+    if found.singular:
+        loose = [x.name for x, c in zip(free, found.null) if abs(c) > 1e-6] or \
+            [x.name for x in free]
         raise EquilibriumError(
             f"{where}the equilibrium is not isolated: the Jacobian of the state equations is "
-            f"singular there, so {', '.join(loose)} can take any value; hold such states "
-            "with fixed={...}")
-    states = {x.name: float(held[x]) if x in held else float(solution[free.index(x)])
-              for x in model.states}
-    return Equilibrium(states, {u.name: float(v) for u, v in u0.items()},
-                       {p.name: v for p, v in pvals.items()}, residual, method)
+            f"singular there (condition number {found.condition:.3g} after scaling), so "
+            f"{', '.join(loose)} can take any value; hold such states with fixed={{...}}")
+    eig, verdict = _trim.stability(system, found.x)
+    jac_kind = ("finite differences" if system.jacobian_kind != "symbolic" else
+                "symbolic" + (" (finite differences where it is not finite)"
+                              if system.used_fd else ""))
+    return Equilibrium({x.name: float(v) for x, v in zip(states, found.x)},
+                       {u.name: float(v) for u, v in u0.items()},
+                       {p.name: v for p, v in pvals.items()}, found.max_residual, method,
+                       how=how, scaled_residual=found.scaled_residual,
+                       condition=found.condition, jacobian=jac_kind,
+                       eigenvalues=eig, stability=verdict)
+
+
+def _failure(where, states, free, x_start, failure, tried, tol, held) -> str:
+    """The error text of a failed search: the worst equation, the states reached, the methods."""
+    text = (f"{where}no equilibrium found from the guess "
+            f"({', '.join(f'{x.name}={v:g}' for x, v in zip(states, x_start))})")
+    if held and len(free) < len(states):
+        text += (f"; with {', '.join(x.name for x in held)} fixed, {len(states)} equations remain "
+                 f"for {len(free)} free state{'s' if len(free) > 1 else ''}, and no value of "
+                 f"{', '.join(x.name for x in free)} satisfies them all")
+    if failure is not None:
+        with np.errstate(all="ignore"):
+            q = np.abs(failure.residual) / np.where(failure.scale > 0, failure.scale, 1.0)
+        i = int(np.nanargmax(np.where(np.isfinite(q), q, np.inf)))
+        text += (f": closest point {', '.join(f'{x.name}={v:.6g}' for x, v in zip(states, failure.x))}"
+                 f", where d{states[i].name}/dt = {failure.residual[i]:.3g} (scaled residual "
+                 f"{failure.scaled_residual:.3g} > tol={tol:g})")
+    text += (f"; methods tried: {'; '.join(tried)}. Give another guess=, or check that the inputs "
+             "admit an equilibrium (a constant force on a free mass has none)"
+             + (" and that the fixed values are ones an equilibrium can have" if held else ""))
+    return text
 
 
 def _exact(eqs, free, x_start) -> Optional[np.ndarray]:
@@ -216,6 +290,10 @@ def _exact(eqs, free, x_start) -> Optional[np.ndarray]:
     if not all(n.is_polynomial(*free) for n in nums):
         return None
     nums = [sympy.nsimplify(n, rational=True) for n in nums]
+    from .trim import exact_budget
+
+    if not exact_budget(nums, free):
+        return None
     try:
         sols = sympy.solve(nums, free, dict=True)
     except (NotImplementedError, ValueError, TypeError):
@@ -236,9 +314,53 @@ def _exact(eqs, free, x_start) -> Optional[np.ndarray]:
     return best
 
 
-def _undetermined(J: np.ndarray, free) -> list[str]:
-    """States along the null space of ``J`` (the ones no equation pins down)."""
-    _, s, vt = np.linalg.svd(J)
-    null = vt[-1]
-    picked = [x.name for x, c in zip(free, null) if abs(c) > 1e-6]
-    return picked or [x.name for x in free]
+def output_derivative_feedthrough(model: "Model", jac) -> tuple:
+    """``D_derivatives`` of a linearization: ``d y / d u^(k)`` for ``k = 1, 2, ...`` (``jac``
+    differentiates and evaluates at the point), or ``()`` when no output needs them.
+
+    Examples
+    --------
+    A flow source driving a mass: the force it needs is ``m dv/dt + b v``.
+
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("push")
+    >>> v = bg.One("v")
+    >>> g.add(bg.Sf("v_in"), v, bg.I("m"), bg.R("b"), bg.C("k"))
+    >>> for t, h in [("v_in", v), (v, "m"), (v, "b"), (v, "k")]: _ = g.connect(t, h)
+    >>> model = bg.derive(g, outputs={"F": bg.effort("v_in"), "x": bg.displacement("k")})
+    >>> lin = model.linearize({"q_k": 0}, {"v_in": 0}, equilibrium=False)
+    >>> lin.D, lin.D_derivatives
+    (Matrix([
+    [b],
+    [0]]), (Matrix([
+    [m],
+    [0]]),))
+    """
+    if not model.input_derivatives:
+        return ()
+    from .forms import derivative_orders
+
+    orders = derivative_orders(model)
+    out = []
+    for k in range(1, max(order for _, order in orders.values()) + 1):
+        cols: list[sympy.Symbol] = [sympy.Dummy() for _ in model.inputs]
+        for sym, (j, order) in orders.items():
+            if order == k:
+                cols[j] = sym
+        out.append(sympy.ImmutableMatrix(jac(model.output_exprs, cols)))
+    while out and all(v == 0 for v in out[-1]):
+        out.pop()
+    return tuple(out)
+
+
+def equilibrium_scaled(model: "Model", x0: Mapping, u0: Mapping, pvals: Mapping, tol: float) -> bool:
+    """Whether ``f(x0, u0)`` vanishes by the unit-independent test of :func:`equilibrium`."""
+    from . import trim as _trim
+
+    try:
+        system = _trim.Equations([r.xreplace(pvals) for r in model.rhs], model.states,
+                                 model.inputs, [float(u0.get(u.name, 0.0)) for u in model.inputs])
+        x = np.array([float(x0[s.name]) for s in model.states])
+        return _trim.assess(system, x, range(len(x))).scaled_residual <= tol
+    except (TypeError, ValueError, KeyError):
+        return False

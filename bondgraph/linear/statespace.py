@@ -89,17 +89,24 @@ class SymbolicStateSpace(SignalCounts):
     E: sympy.ImmutableMatrix | None = None
     #: names of every parameter of the model definition (see :mod:`bondgraph.parameters`)
     known_parameters: tuple[str, ...] = field(default=(), compare=False, repr=False)
+    #: feedthrough of input derivatives, ``y = C x + D u + D_derivatives[0] u' + ...``
+    #: (outputs that need them: a linearization keeps them here); empty otherwise
+    D_derivatives: tuple[sympy.ImmutableMatrix, ...] = ()
 
     def __post_init__(self) -> None:
         for label in "ABCD":
             check_matrix_shape(label, getattr(self, label).shape, self.nstates, self.ninputs,
                                self.noutputs, BondGraphError)
+        for k, M in enumerate(self.D_derivatives):
+            check_matrix_shape("D", M.shape, self.nstates, self.ninputs, self.noutputs,
+                               BondGraphError)
 
     @property
     def parameters(self) -> tuple[sympy.Symbol, ...]:
         """Free symbols of the matrices, sorted by name."""
         syms = set()
-        for mat in (self.A, self.B, self.C, self.D) + ((self.E,) if self.E is not None else ()):
+        for mat in (self.A, self.B, self.C, self.D) + ((self.E,) if self.E is not None else ()) \
+                + tuple(self.D_derivatives):
             syms |= mat.free_symbols
         return tuple(sorted(syms, key=lambda s: s.name))
 
@@ -132,7 +139,8 @@ class SymbolicStateSpace(SignalCounts):
             return None if mat is None else sympy.ImmutableMatrix(mat.xreplace(sub))
         return SymbolicStateSpace(f(self.A), f(self.B), f(self.C), f(self.D),
                                   self.state_names, self.input_names, self.output_names, f(self.E),
-                                  known_parameters=self.known_parameters)
+                                  known_parameters=self.known_parameters,
+                                  D_derivatives=tuple(f(M) for M in self.D_derivatives))
 
     def to_latex(self) -> str:
         r"""Matrix form ``E x' = A x + B u``, ``y = C x + D u`` in LaTeX.
@@ -147,9 +155,12 @@ class SymbolicStateSpace(SignalCounts):
         """
         from ..tf import state_space_latex
 
-        return state_space_latex(self.A, self.B, self.C, self.D, E=self.E,
+        text = state_space_latex(self.A, self.B, self.C, self.D, E=self.E,
                                  state_names=self.state_names, input_names=self.input_names,
                                  output_names=self.output_names)
+        for k, M in enumerate(self.D_derivatives, start=1):
+            text += (r",\quad y \mathrel{+}= %s\, u^{(%d)}" % (sympy.latex(M), k))
+        return text
 
     def _repr_latex_(self) -> str:
         return "$$" + self.to_latex() + "$$"
@@ -157,8 +168,9 @@ class SymbolicStateSpace(SignalCounts):
     def __str__(self) -> str:
         parts = [f"states  {list(self.state_names)}", f"inputs  {list(self.input_names)}",
                  f"outputs {list(self.output_names)}"]
-        for label in ("E", "A", "B", "C", "D"):
-            mat = getattr(self, label)
+        labelled = [(label, getattr(self, label)) for label in ("E", "A", "B", "C", "D")]
+        labelled += [(f"D_derivatives[{k}]", M) for k, M in enumerate(self.D_derivatives)]
+        for label, mat in labelled:
             if mat is not None:
                 rows = sympy.pretty(mat, use_unicode=False).splitlines()
                 pad = " " * len(f"{label} = ")

@@ -24,6 +24,7 @@ import sympy
 from ..equations import StateEquations
 from ..errors import BondGraphError
 from ..linear import Equilibrium, EquilibriumError, linearize
+from ..linear.operating import equilibrium_scaled
 from ..parameters import ParameterValues, match_values, real_value
 from .statespace import NumericStateSpace
 
@@ -47,7 +48,8 @@ def linear_plant(model: StateEquations, point: Equilibrium | Mapping, inputs: Op
     f0 = [float(r.xreplace({**{s: sympy.Float(x0[s.name], 17) for s in model.states},
                             **{u: sympy.Float(u0.get(u.name, 0.0), 17) for u in model.inputs},
                             **pvals})) for r in model.rhs]
-    if f0 and max(abs(v) for v in f0) > tol * max(1.0, max(abs(v) for v in x0.values()) if x0 else 1.0):
+    if f0 and max(abs(v) for v in f0) > tol * max(1.0, max(abs(v) for v in x0.values()) if x0 else 1.0) \
+            and not equilibrium_scaled(model, x0, u0, pvals, tol):
         raise EquilibriumError(
             f"{where}the operating point is not an equilibrium at these values: "
             + ", ".join(f"d{s.name}/dt = {v:.3g}" for s, v in zip(model.states, f0) if abs(v) > tol)
@@ -58,4 +60,5 @@ def linear_plant(model: StateEquations, point: Equilibrium | Mapping, inputs: Op
                         dtype=float).reshape(M.shape)
     return NumericStateSpace(arr(num.A), arr(num.B), arr(num.C), arr(num.D), lin.state_names,
                              lin.input_names, lin.output_names,
-                             {p.name: float(v) for p, v in pvals.items()}, model.name)
+                             {p.name: float(v) for p, v in pvals.items()}, model.name,
+                             D_derivatives=tuple(arr(M) for M in num.D_derivatives))
