@@ -408,12 +408,9 @@ def read_table(path: Any, what: str, error: Callable[[str], Exception]) -> tuple
     suffix = Path(name).suffix.lower()
     if suffix not in (".json", ".toml"):
         raise error(f"{what} '{name}' must be .json or .toml")
-    try:
-        raw = Path(name).read_bytes()
-    except FileNotFoundError:
-        raise error(f"{what} '{name}' does not exist") from None
-    except OSError as exc:
-        raise error(f"cannot read {what} '{name}': {exc.strerror or exc}") from None
+    from ._safe_read import TABLE_LIMIT, read_regular
+
+    raw = read_regular(name, what, error, TABLE_LIMIT)     # a regular file, kilobytes: no FIFO, no /dev/zero
     label = f"{what} '{name}'"
     if suffix == ".json":
         return name, decode_json(raw, label, error)
