@@ -12,7 +12,8 @@ given by ``--operating-point FILE`` or found by ``--trim`` (see
 Exit status: 0 on success, 1 when the command fails (the reason is printed
 as ``error: ...`` on stderr, never a traceback, naming the file at fault),
 2 for bad command-line usage (including an operating point whose names or
-values do not fit the model), 130 when interrupted (Ctrl-C).  Files are
+values do not fit the model), 130 when interrupted (Ctrl-C), 143 on SIGTERM
+and 129 on SIGHUP (cleaned up as for Ctrl-C).  Files are
 written all or nothing: a failed command leaves no partial or temporary
 file, and the ``.c``/``.h`` pair of ``export --format c`` is replaced
 together or not at all.
@@ -108,11 +109,14 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             parser.error("tf: --trim solves at parameter values: add --numeric")
     except SystemExit as exc:  # --help, --version, usage errors
         return int(exc.code or 0) if not isinstance(exc.code, str) else 2
+    from ._signals import exit_status, signals_as_interrupts
+
     try:
-        args.func(args)
+        with signals_as_interrupts():       # SIGTERM, SIGHUP: cleaned up as Ctrl-C is
+            args.func(args)
     except KeyboardInterrupt as exc:
         _report(str(exc) or "interrupted")
-        return 130
+        return exit_status(exc)
     except BrokenPipeError:
         _stdout_to_devnull()
         _report("standard output was closed before everything was printed")
