@@ -591,8 +591,11 @@ def simulate(model: Union[StateEquations, NumericDynamics], values: ParameterVal
     if switched is not None:       # a switched model (bondgraph.hybrid) runs its own event loop
         return switched(values, t_span, x0, u=u, t_eval=t_eval, method=method, rtol=rtol,
                         atol=atol, max_step=max_step)
+    from ..fields import check_fields
+
     dyn = model if isinstance(model, NumericDynamics) else NumericDynamics(model)
     p = dyn.parameter_vector(values)
+    check_fields(dyn.model, dict(zip(dyn.parameter_names, p.tolist())))   # as plant() does
     m = len(dyn.input_names)
     t0, t1 = _time_span(t_span)
     x_init = _initial_state(x0, dyn.state_names)
