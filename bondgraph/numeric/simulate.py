@@ -611,6 +611,9 @@ def simulate(model: Union[StateEquations, NumericDynamics], values: ParameterVal
     def rhs(t: float, x: np.ndarray) -> np.ndarray:
         return _checked_derivatives(dyn, t, x, ufun(t), p, context)
 
+    from ._stiffness import check_stiffness
+
+    check_stiffness(rhs, t0, t1, np.asarray(x_init, dtype=float), solver, dyn.name)
     try:
         with np.errstate(all="ignore"):
             sol = solve_ivp(rhs, (t0, t1), x_init, method=solver, t_eval=times, rtol=r_tol,
