@@ -38,3 +38,16 @@ def test_ordinary_plant_still_runs_with_rk45():
     """m x'' + b x' + x/c = F, steady state x = c F."""
     res = bg.simulate(_msd(), {"m": 2.0, "b": 6.0, "c": 0.25}, (0.0, 40.0), u=[1.0], t_eval=[40.0])
     assert res["x"][-1] == pytest.approx(0.25, rel=1e-5)
+
+
+def test_prbs_refuses_a_sequence_too_long_to_build_before_allocating():
+    """I43: prbs(32), the documented maximum order, allocated 32 GiB then failed."""
+    from bondgraph.identification import IdentificationError, prbs
+
+    with pytest.raises(IdentificationError, match=r"length: the sequence would have 4,294,967,295 samples"):
+        prbs(32)
+    x = prbs(32, length=1000)           # a part of the period is still available
+    assert x.shape == (1000,) and set(np.unique(x)) <= {-1.0, 1.0}
+    # a maximum-length sequence of order 5 has 2**4 ones and 2**4 - 1 zeros in its 31 bits
+    y = prbs(5)
+    assert y.size == 31 and np.count_nonzero(y > 0) == 16
