@@ -109,9 +109,12 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             parser.error("tf: --trim solves at parameter values: add --numeric")
     except SystemExit as exc:  # --help, --version, usage errors
         return int(exc.code or 0) if not isinstance(exc.code, str) else 2
-    from ._signals import exit_status, signals_as_interrupts
+    from ._signals import ClosedStream, exit_status, signals_as_interrupts
 
+    closed = sys.stdout is None             # started with stdout closed (>&-): Python drops prints
     try:
+        if closed:
+            sys.stdout = ClosedStream()     # a print is then a failure, not silently lost
         with signals_as_interrupts():       # SIGTERM, SIGHUP: cleaned up as Ctrl-C is
             args.func(args)
     except KeyboardInterrupt as exc:
@@ -127,6 +130,9 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     except Exception as exc:  # anything else is reported the same way: never a traceback
         _report(_naming_path(_message(exc), args))
         return 1
+    finally:
+        if closed:
+            sys.stdout = None  # type: ignore[assignment]
     return 0
 
 

@@ -16,7 +16,7 @@ import signal
 import threading
 from typing import Any, Iterator, Optional
 
-__all__ = ["Terminated", "signals_as_interrupts", "exit_status"]
+__all__ = ["ClosedStream", "Terminated", "signals_as_interrupts", "exit_status"]
 
 _SIGNALS = tuple(getattr(signal, name) for name in ("SIGTERM", "SIGHUP") if hasattr(signal, name))
 
@@ -59,3 +59,18 @@ def exit_status(exc: BaseException) -> int:
             return 128 + seen.signum
         seen = seen.__cause__ or seen.__context__
     return 130
+
+
+class ClosedStream:
+    """Stands for a standard output closed before the program started (``>&-``).
+
+    Python sets ``sys.stdout`` to None then and ``print`` writes nothing,
+    so a command would exit 0 with its output lost (audit C39); writing to
+    this raises :class:`BrokenPipeError`, reported as a closed output.
+    """
+
+    def write(self, text: str) -> int:
+        raise BrokenPipeError(32, "standard output is closed")
+
+    def flush(self) -> None:
+        return None
