@@ -124,8 +124,8 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
         _stdout_to_devnull()
         _report("standard output was closed before everything was printed")
         return 1
-    except BondGraphError as exc:
-        _report(_naming_path(_text(exc), args))
+    except BondGraphError as exc:     # an option's error names the option, not the model file
+        _report(_text(exc) if getattr(exc, "culprit_named", False) else _naming_path(_text(exc), args))
         return getattr(exc, "exit_status", 1)
     except Exception as exc:  # anything else is reported the same way: never a traceback
         _report(_naming_path(_message(exc), args))
