@@ -127,6 +127,11 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
     except BondGraphError as exc:     # an option's error names the option, not the model file
         _report(_text(exc) if getattr(exc, "culprit_named", False) else _naming_path(_text(exc), args))
         return getattr(exc, "exit_status", 1)
+    except MemoryError:       # a size, not the model file's fault: say what to do
+        _report(f"out of memory in 'bondgraph {args.command}': the computation is too large for "
+                "this machine (a symbolic result over many parameters?); give numeric values "
+                "(--params, and --numeric for tf) or reduce the model")
+        return 1
     except Exception as exc:  # anything else is reported the same way: never a traceback
         _report(_naming_path(_message(exc), args))
         return 1

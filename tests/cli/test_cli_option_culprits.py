@@ -56,3 +56,23 @@ def test_study_file_option_error_names_the_study_file(tmp_path):
                      "-o", str(tmp_path / "o.csv"))
     assert code == 1
     assert err == f"error: n in the [study] table of '{study}' must be between 1 and 10,000,000; got 0"
+
+
+def test_memory_error_is_not_blamed_on_the_model_file(tmp_path, monkeypatch):
+    """R01c: 'error: model file 'chain.py': MemoryError: MemoryError' after 7.8 GB."""
+    import types
+
+    import bondgraph.cli._common as common
+
+    model = tmp_path / "msd.py"
+    model.write_text(MSD)
+
+    def exhausted(*a, **k):
+        raise MemoryError
+
+    monkeypatch.setattr(common, "_transfer_module",
+                        lambda: types.SimpleNamespace(transfer_function=exhausted,
+                                                      transfer_matrix=exhausted))
+    code, err = _run("tf", str(model))
+    assert code == 1 and err.startswith("error: out of memory in 'bondgraph tf'")
+    assert "model file" not in err
