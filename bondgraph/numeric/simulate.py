@@ -30,7 +30,7 @@ import numpy as np
 import sympy
 from sympy.core.function import AppliedUndef
 
-from ..errors import BondGraphError
+from ..errors import BondGraphError, ParameterValueError
 from ..equations import StateEquations
 from ..signals import t as T_SYM
 from ._compile import CallbackFailure, CompiledFunction, guard_user_functions, placeholders, real_array
@@ -595,7 +595,11 @@ def simulate(model: Union[StateEquations, NumericDynamics], values: ParameterVal
 
     dyn = model if isinstance(model, NumericDynamics) else NumericDynamics(model)
     p = dyn.parameter_vector(values)
-    check_fields(dyn.model, dict(zip(dyn.parameter_names, p.tolist())))   # as plant() does
+    given = {getattr(k, "name", k): v for k, v in dict(values or {}).items()}
+    try:                                        # each field definite at the values, as plant() does
+        check_fields(dyn.model, {**given, **dict(zip(dyn.parameter_names, p.tolist()))})
+    except ParameterValueError:
+        pass            # a field whose matrix the equations do not use (no value needed) is not run
     m = len(dyn.input_names)
     t0, t1 = _time_span(t_span)
     x_init = _initial_state(x0, dyn.state_names)
