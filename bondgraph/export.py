@@ -4,7 +4,14 @@ Every writer first writes a temporary file in the target's directory and then
 renames it over the target (:func:`os.replace`), so a failed export (bad path,
 unwritable directory, a value that cannot be serialized) leaves neither a
 partial file nor a temporary one behind, and an existing file is either kept
-whole or replaced whole.
+whole or replaced whole.  What sits at the path decides how it is written
+(:mod:`bondgraph._write_target`): a regular file keeps its permission bits
+(a ``0600`` file stays ``0600``); a symbolic link is kept and the file it
+leads to is replaced; a character device or FIFO (``/dev/null``,
+``/dev/stdout``, a named pipe) is written straight through, without a
+temporary file; a directory, block device or socket is refused.  Readers
+(:func:`load_json`, :func:`load_npz`) read only regular files under a size
+cap (:mod:`bondgraph._safe_read`).
 
 Formats
 -------
