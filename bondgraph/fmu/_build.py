@@ -131,7 +131,11 @@ def compile_library(sources: Mapping[str, bytes], c_files: Sequence[str], output
             if len(messages) > 4000:
                 messages = "...\n" + messages[-4000:]
             raise FMUError(f"the C compiler failed (exit status {done.returncode}):\n{messages}")
-        return Path(tmp, output).read_bytes()
+        try:
+            return Path(tmp, output).read_bytes()
+        except OSError:
+            raise FMUError(f"the C compiler {command[0]!r} exited successfully but wrote no "
+                           f"{output}: is it a C compiler? (command: {' '.join(command)})") from None
 
 
 def _run_compiler(argv: Sequence[str], folder: str, name: str) -> "subprocess.CompletedProcess[str]":

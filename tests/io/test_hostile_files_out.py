@@ -235,3 +235,12 @@ def test_sigterm_during_fmu_build_leaves_nothing(tmp_path):
     assert list(tmp.iterdir()) == [] and not (tmp_path / "m.fmu").exists()
     time.sleep(0.3)
     assert _gone(cc_pid) and _gone(child_pid), "the compiler (or its child) outlived the build"
+
+
+def test_compiler_that_writes_no_library_is_an_fmu_error(tmp_path):
+    """U17: a 'compiler' that exits 0 without output gave a raw FileNotFoundError."""
+    from bondgraph.fmu import FMUError
+    from bondgraph.fmu._build import compile_library
+
+    with pytest.raises(FMUError, match="exited successfully but wrote no lib.so"):
+        compile_library({"a.c": b"int x;\n"}, ["a.c"], "lib.so", cc="true")
