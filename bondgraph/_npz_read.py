@@ -1,7 +1,7 @@
 """Reading a ``bondgraph-statespace`` ``.npz`` archive without trusting it.
 
 :func:`read_npz` is the body of :func:`bondgraph.export.load_npz`.  The file
-must be a regular file under :data:`~bondgraph._safe_read.PLANT_LIMIT`
+must be a regular file under :data:`~bondgraph._support.safe_read.PLANT_LIMIT`
 bytes; only the members the format has are read (others are never
 decompressed); each member's ``.npy`` header (dtype, shape, hence size) and
 its size in the zip directory are checked before its data is decompressed;
@@ -20,9 +20,9 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ._safe_read import PLANT_LIMIT, open_regular
+from ._support.safe_read import PLANT_LIMIT, open_regular
 from .errors import BondGraphError
-from .files import ExportError
+from ._support.files import ExportError
 
 __all__ = ["ARRAYS_LIMIT", "read_npz"]
 

@@ -5,13 +5,13 @@ renames it over the target (:func:`os.replace`), so a failed export (bad path,
 unwritable directory, a value that cannot be serialized) leaves neither a
 partial file nor a temporary one behind, and an existing file is either kept
 whole or replaced whole.  What sits at the path decides how it is written
-(:mod:`bondgraph._write_target`): a regular file keeps its permission bits
+(:mod:`bondgraph._support.write_target`): a regular file keeps its permission bits
 (a ``0600`` file stays ``0600``); a symbolic link is kept and the file it
 leads to is replaced; a character device or FIFO (``/dev/null``,
 ``/dev/stdout``, a named pipe) is written straight through, without a
 temporary file; a directory, block device or socket is refused.  Readers
 (:func:`load_json`, :func:`load_npz`) read only regular files under a size
-cap (:mod:`bondgraph._safe_read`).
+cap (:mod:`bondgraph._support.safe_read`).
 
 Formats
 -------
@@ -277,7 +277,7 @@ def load_npz(path: PathLike) -> NumericStateSpace:
     ------
     ExportError
         Naming the file and the array at fault: not a regular file or too
-        large (:data:`~bondgraph._safe_read.PLANT_LIMIT`), not a zip archive,
+        large (:data:`~bondgraph._support.safe_read.PLANT_LIMIT`), not a zip archive,
         missing arrays, wrong format name or version, a dtype that is not a
         real number (complex, text, objects) or not an integer for indices,
         NaN or infinity, repeated names, shapes that do not match the names,
@@ -439,7 +439,7 @@ def load_json(path: PathLike) -> NumericStateSpace:
     >>> back.name, back.state_names, back.B, dict(back.parameters)
     ('lag', ('x',), array([[1.]]), {'tau': 1.0})
     """
-    from ._safe_read import PLANT_LIMIT, read_regular
+    from ._support.safe_read import PLANT_LIMIT, read_regular
 
     target = target_path(path)
     raw = read_regular(str(target), "plant file", lambda message: ExportError(message, path=str(target)),

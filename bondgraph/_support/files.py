@@ -185,7 +185,7 @@ def atomic_write_many(items: Sequence[tuple[PathLike, Callable[[Any], None]]], *
     Notes
     -----
     What sits at a target decides how it is written
-    (:mod:`bondgraph._write_target`): a regular file is replaced keeping
+    (:mod:`bondgraph._support.write_target`): a regular file is replaced keeping
     its mode; a symbolic link is kept and the file it leads to replaced; a
     character device or FIFO is written straight through (no temporary
     file, the node stays); a directory, block device or socket is refused.
@@ -202,7 +202,7 @@ def atomic_write_many(items: Sequence[tuple[PathLike, Callable[[Any], None]]], *
     """
     from .write_target import inspect_target, locked_folders
 
-    kinds = [inspecttarget_path(target_path(path), ExportError) for path, _ in items]
+    kinds = [inspect_target(target_path(path), ExportError) for path, _ in items]
     seen: set[str] = set()
     for kind in kinds:
         key = os.path.normcase(os.path.abspath(kind.path))

@@ -209,7 +209,7 @@ class _Deriver:
                 self._claim(sym.name, f"the input of {el.label()}")
                 self.input_of[el.name] = sym
                 self.input_syms.append(sym)
-        from ._name_policy import check_element_symbols
+        from .name_policy import check_element_symbols
 
         check_element_symbols(self.flat.elements, self.roles, self.flat.name)  # whatever assumptions
         for sym in self.states:

@@ -96,7 +96,7 @@ def as_signal(x: ArrayLike, name: str, *, min_length: int = 1,
 
 def _refuse_text_and_complex(x: object, name: str, dtype: DTypeLike) -> None:
     """Text is not parsed into numbers; complex data is not cast to real (issue 23, items 9, 11)."""
-    from .._numeric_input import dtype_problem
+    from .._support.numeric_input import dtype_problem
 
     try:
         raw = np.asarray(x)

@@ -103,7 +103,7 @@ class BatchStateSpace:
 
     def frequency_response(self, omega: Union[float, Sequence[float], np.ndarray]) -> np.ndarray:
         """Batched ``H(jw)``, complex array of shape ``(P, len(omega), noutputs, ninputs)``."""
-        from .._numeric_input import numeric_array
+        from .._support.numeric_input import numeric_array
 
         omega = numeric_array(omega, "omega", NumericError)
         return add_derivatives(frequency_response(self.A, self.B, self.C, self.D, omega),
@@ -221,7 +221,7 @@ class SparseBatchStateSpace:
     def frequency_response(self, omega: Union[float, Sequence[float], np.ndarray]) -> np.ndarray:
         """``H(jw)`` of every plant, complex ``(P, len(omega), noutputs, ninputs)``: a sparse
         LU per plant and frequency, one column ordering for all."""
-        from .._numeric_input import numeric_array
+        from .._support.numeric_input import numeric_array
 
         w = np.atleast_1d(numeric_array(omega, "omega", NumericError))
         if w.ndim != 1:

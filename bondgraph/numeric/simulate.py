@@ -591,13 +591,16 @@ def simulate(model: Union[StateEquations, NumericDynamics], values: ParameterVal
     if switched is not None:       # a switched model (bondgraph.hybrid) runs its own event loop
         return switched(values, t_span, x0, u=u, t_eval=t_eval, method=method, rtol=rtol,
                         atol=atol, max_step=max_step)
-    from ..fields import check_fields
-
     dyn = model if isinstance(model, NumericDynamics) else NumericDynamics(model)
     p = dyn.parameter_vector(values)
     given = {getattr(k, "name", k): v for k, v in dict(values or {}).items()}
     try:                                        # each field definite at the values, as plant() does
-        check_fields(dyn.model, {**given, **dict(zip(dyn.parameter_names, p.tolist()))})
+        at = {**given, **dict(zip(dyn.parameter_names, p.tolist()))}
+        augmented = getattr(dyn.model, "augmented", None)
+        for element in (augmented.flat.elements if augmented is not None else ()):
+            check = getattr(element, "check_values", None)      # the fields answer
+            if check is not None:
+                check(at)
     except ParameterValueError:
         pass            # a field whose matrix the equations do not use (no value needed) is not run
     m = len(dyn.input_names)

@@ -44,7 +44,7 @@ def _dense(value: Any, label: str) -> np.ndarray:
     if isinstance(value, np.ndarray) and value.dtype == np.float64 and not value.flags.writeable:
         arr = value                           # already read-only float64 (compile_plant's): no copy
     else:
-        from .._numeric_input import numeric_array
+        from .._support.numeric_input import numeric_array
 
         arr = np.array(numeric_array(value, f"state-space matrix {label}", NumericError), dtype=float)
     if arr.ndim != 2:
@@ -56,7 +56,7 @@ def _sparse(value: Any, label: str) -> "scipy.sparse.csr_array":
     import scipy.sparse
 
     if not issparse(value):
-        from .._numeric_input import numeric_array
+        from .._support.numeric_input import numeric_array
 
         value = numeric_array(value, f"state-space matrix {label}", NumericError)
         if value.ndim != 2:
@@ -254,7 +254,7 @@ class NumericStateSpace(SignalCounts):
             Complex, shape ``(len(omega), noutputs, ninputs)``; ``nan`` where
             ``jw`` is an eigenvalue of ``A``.
         """
-        from .._numeric_input import numeric_array
+        from .._support.numeric_input import numeric_array
 
         w = np.atleast_1d(numeric_array(omega, "omega", NumericError))
         if w.ndim != 1:

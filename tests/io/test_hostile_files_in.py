@@ -193,7 +193,7 @@ def test_fifo_and_dev_zero_refused(tmp_path):
 
 def test_json_plant_size_cap(tmp_path, monkeypatch):
     """X29: a 2 GB JSON plant was read whole before being refused; now the size is checked first."""
-    import bondgraph._safe_read as safe
+    import bondgraph._support.safe_read as safe
 
     path = tmp_path / "p.json"
     export_json(_plant(), path)

@@ -34,8 +34,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Callable, Iterator, Optional, Sequence
 
-from ._safe_read import kind_of
-from .errors import BondGraphError
+from .safe_read import kind_of
+from ..errors import BondGraphError
 
 __all__ = ["Target", "inspect_target", "write_through", "locked_folders", "copy_owner_and_mode"]
 

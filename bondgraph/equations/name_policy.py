@@ -21,8 +21,8 @@ from typing import Any, Iterable, Iterator, Mapping
 
 import sympy
 
-from .errors import NameClashError
-from .signals import LawVariable, Signal, t as T_SYM
+from ..errors import NameClashError
+from ..signals import LawVariable, Signal, t as T_SYM
 
 __all__ = ["check_element_symbols"]
 
