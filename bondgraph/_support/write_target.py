@@ -57,7 +57,7 @@ def inspect_target(target: Path, error: Callable[..., BondGraphError]) -> Target
     --------
     >>> import tempfile, os
     >>> from pathlib import Path
-    >>> from bondgraph.files import ExportError
+    >>> from bondgraph._support.files import ExportError
     >>> with tempfile.TemporaryDirectory() as d:
     ...     os.mkfifo(os.path.join(d, "pipe"))
     ...     os.symlink("real.json", os.path.join(d, "link.json"))

@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 from bondgraph.export import ExportError, export_json
-from bondgraph.files import atomic_write_many
+from bondgraph._support.files import atomic_write_many
 from bondgraph.numeric import NumericStateSpace
 
 ROOT = Path(__file__).resolve().parents[2]

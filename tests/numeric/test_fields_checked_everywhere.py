@@ -10,7 +10,7 @@ import pytest
 import sympy
 
 import bondgraph as bg
-from bondgraph.fields import FieldError
+from bondgraph.elements.fields import FieldError
 
 m = sympy.Symbol("m", positive=True)
 
