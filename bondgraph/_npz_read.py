@@ -48,9 +48,11 @@ def _member_spec(key: str) -> tuple[str, Any]:
     return {"data": (_NUMERIC, 1), "indices": ("iu", 1), "indptr": ("iu", 1), "shape": ("iu", 1)}[part]
 
 
-def read_npz(path: str) -> Any:
-    """Read and check ``path``; returns the :class:`~bondgraph.numeric.NumericStateSpace`."""
-    from .export import FORMAT_NAME, FORMAT_VERSION
+def read_npz(path: str, FORMAT_NAME: str, FORMAT_VERSION: int) -> Any:
+    """Read and check ``path`` (format name and version given by :mod:`bondgraph.export`).
+
+    Returns the :class:`~bondgraph.numeric.NumericStateSpace`.
+    """
     from .numeric.plant import NumericStateSpace
 
     def fail(message: str) -> ExportError:

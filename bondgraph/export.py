@@ -298,7 +298,7 @@ def load_npz(path: PathLike) -> NumericStateSpace:
     """
     from ._npz_read import read_npz
 
-    return read_npz(str(target_path(path)))
+    return read_npz(str(target_path(path)), FORMAT_NAME, FORMAT_VERSION)
 
 
 def to_json_dict(plant: NumericStateSpace) -> dict[str, Any]:

@@ -30,7 +30,7 @@ import numpy as np
 import sympy
 from sympy.core.function import AppliedUndef
 
-from ..errors import BondGraphError, ParameterValueError
+from ..errors import BondGraphError
 from ..equations import StateEquations
 from ..signals import t as T_SYM
 from ._compile import CallbackFailure, CompiledFunction, guard_user_functions, placeholders, real_array
@@ -593,16 +593,9 @@ def simulate(model: Union[StateEquations, NumericDynamics], values: ParameterVal
                         atol=atol, max_step=max_step)
     dyn = model if isinstance(model, NumericDynamics) else NumericDynamics(model)
     p = dyn.parameter_vector(values)
-    given = {getattr(k, "name", k): v for k, v in dict(values or {}).items()}
-    try:                                        # each field definite at the values, as plant() does
-        at = {**given, **dict(zip(dyn.parameter_names, p.tolist()))}
-        augmented = getattr(dyn.model, "augmented", None)
-        for element in (augmented.flat.elements if augmented is not None else ()):
-            check = getattr(element, "check_values", None)      # the fields answer
-            if check is not None:
-                check(at)
-    except ParameterValueError:
-        pass            # a field whose matrix the equations do not use (no value needed) is not run
+    from ._field_values import check_fields_at
+
+    check_fields_at(dyn.model, values, dyn.parameter_names, p.tolist())   # as plant() does
     m = len(dyn.input_names)
     t0, t1 = _time_span(t_span)
     x_init = _initial_state(x0, dyn.state_names)
