@@ -4,7 +4,14 @@ Every writer first writes a temporary file in the target's directory and then
 renames it over the target (:func:`os.replace`), so a failed export (bad path,
 unwritable directory, a value that cannot be serialized) leaves neither a
 partial file nor a temporary one behind, and an existing file is either kept
-whole or replaced whole.
+whole or replaced whole.  What sits at the path decides how it is written
+(:mod:`bondgraph._support.write_target`): a regular file keeps its permission bits
+(a ``0600`` file stays ``0600``); a symbolic link is kept and the file it
+leads to is replaced; a character device or FIFO (``/dev/null``,
+``/dev/stdout``, a named pipe) is written straight through, without a
+temporary file; a directory, block device or socket is refused.  Readers
+(:func:`load_json`, :func:`load_npz`) read only regular files under a size
+cap (:mod:`bondgraph._support.safe_read`).
 
 Formats
 -------
@@ -269,8 +276,13 @@ def load_npz(path: PathLike) -> NumericStateSpace:
     Raises
     ------
     ExportError
-        Naming the file and the array at fault (missing, wrong format name,
-        shapes that do not match the names).
+        Naming the file and the array at fault: not a regular file or too
+        large (:data:`~bondgraph._support.safe_read.PLANT_LIMIT`), not a zip archive,
+        missing arrays, wrong format name or version, a dtype that is not a
+        real number (complex, text, objects) or not an integer for indices,
+        NaN or infinity, repeated names, shapes that do not match the names,
+        sparse indices out of range.  Only the format's members are read,
+        each checked from its header before it is decompressed.
 
     Examples
     --------
@@ -284,59 +296,9 @@ def load_npz(path: PathLike) -> NumericStateSpace:
     >>> back.is_sparse, back.A.toarray().tolist(), dict(back.parameters)
     (True, [[-1.0, 0.0], [1.0, -2.0]], {'k': 2.0})
     """
-    target = target_path(path)
-    where = str(target)
+    from ._npz_read import read_npz
 
-    def fail(message: str) -> ExportError:
-        return ExportError(f"'{where}': {message}", path=where)
-
-    try:
-        with np.load(target, allow_pickle=False) as z:
-            arrays = {key: z[key] for key in z.files}
-    except OSError as exc:
-        raise ExportError(f"cannot read '{where}': {exc.strerror or exc}", path=where,
-                          errno=exc.errno) from exc
-    except ValueError as exc:
-        raise fail(f"not a numpy .npz archive of arrays: {exc}") from exc
-    if str(arrays.get("format", "")) != FORMAT_NAME:
-        raise fail(f'not a {FORMAT_NAME} archive (no "format" array holding "{FORMAT_NAME}")')
-    version = arrays.get("format_version")
-    if version is None or version.shape != () or int(version) != FORMAT_VERSION:
-        raise fail(f"unsupported format_version {version}; this bondgraph reads {FORMAT_VERSION}")
-    missing = [k for k in ("state_names", "input_names", "output_names", "parameter_names",
-                           "parameter_values", "model_name") if k not in arrays]
-    mats = {}
-    for key in "ABCD":
-        if key in arrays:
-            mats[key] = arrays[key]
-        elif all(f"{key}_{part}" in arrays for part in ("data", "indices", "indptr", "shape")):
-            import scipy.sparse
-
-            try:
-                mats[key] = scipy.sparse.csr_array(
-                    (arrays[f"{key}_data"], arrays[f"{key}_indices"], arrays[f"{key}_indptr"]),
-                    shape=tuple(int(v) for v in arrays[f"{key}_shape"]))
-            except (TypeError, ValueError) as exc:
-                raise fail(f"malformed sparse matrix {key} ({key}_data, {key}_indices, "
-                           f"{key}_indptr, {key}_shape): {exc}") from exc
-        else:
-            missing.append(f"{key} (or {key}_data, {key}_indices, {key}_indptr, {key}_shape)")
-    if missing:
-        raise fail(f"missing arrays {', '.join(missing)}")
-    if len({issparse(M) for M in mats.values()}) > 1:
-        raise fail("A, B, C, D must all be dense or all sparse")
-    states, inputs, outputs, pnames = (tuple(str(v) for v in arrays[k].reshape(-1)) for k in
-                                       ("state_names", "input_names", "output_names",
-                                        "parameter_names"))
-    values = arrays["parameter_values"].reshape(-1)
-    if values.shape[0] != len(pnames):
-        raise fail(f"{len(pnames)} parameter_names but {values.shape[0]} parameter_values")
-    try:
-        return NumericStateSpace(mats["A"], mats["B"], mats["C"], mats["D"], states, inputs,
-                                 outputs, dict(zip(pnames, values.tolist())),
-                                 str(arrays["model_name"]))
-    except (BondGraphError, TypeError, ValueError) as exc:
-        raise fail(f"malformed {FORMAT_NAME} archive: {exc}") from exc
+    return read_npz(str(target_path(path)), FORMAT_NAME, FORMAT_VERSION)
 
 
 def to_json_dict(plant: NumericStateSpace) -> dict[str, Any]:
@@ -477,12 +439,11 @@ def load_json(path: PathLike) -> NumericStateSpace:
     >>> back.name, back.state_names, back.B, dict(back.parameters)
     ('lag', ('x',), array([[1.]]), {'tau': 1.0})
     """
+    from ._support.safe_read import PLANT_LIMIT, read_regular
+
     target = target_path(path)
-    try:
-        raw = target.read_bytes()
-    except OSError as exc:
-        raise ExportError(f"cannot read '{target}': {exc.strerror or exc}",
-                          path=str(target), errno=exc.errno) from exc
+    raw = read_regular(str(target), "plant file", lambda message: ExportError(message, path=str(target)),
+                       PLANT_LIMIT)
     doc = decode_json(raw, f"'{target}'", lambda message: ExportError(message, path=str(target)))
     return _plant_from_document(doc, str(target))
 

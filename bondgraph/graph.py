@@ -92,7 +92,13 @@ class BondGraph:
                         f"graph {self.name!r}: sub-model {name!r} exposes no Port elements, "
                         "so nothing can connect to it"
                     )
-                self._subgraphs[name] = item.copy()
+                try:
+                    self._subgraphs[name] = item.copy()
+                except RecursionError:
+                    raise ModelStructureError(
+                        f"graph {self.name!r}: sub-model {name!r} is nested too deeply to be "
+                        "copied (sub-models inside sub-models beyond Python's recursion limit); "
+                        "flatten some levels of the hierarchy") from None
                 self._order.append(name)
             else:
                 self._elements[name] = item

@@ -807,6 +807,153 @@ def cli_trim_unknown_input(d):
     cli("export", model_file(d, MSD_FILE), "--trim", "--input-value", "G=1", "-o", str(d.out / "plant.json"))
 
 
+# ------------------------------------------------------------------ hostile files, odd paths, huge inputs (issue 23)
+def _two_state_npz(d: Dirs, **changes) -> Path:
+    from bondgraph.export import export_npz
+    from bondgraph.numeric import NumericStateSpace
+    ss = NumericStateSpace([[-1.0, 0.0], [1.0, -2.0]], [[1.0], [0.0]], [[0.0, 1.0]], [[0.0]],
+                           ("x1", "x2"), ("u",), ("y",))
+    sparse = changes.pop("sparse", False)
+    path = d.inp / "plant.npz"
+    export_npz(ss.to_sparse() if sparse else ss, path)
+    with np.load(path) as z:
+        arrays = {k: z[k] for k in z.files}
+    arrays.update(changes)
+    np.savez(path, **arrays)
+    return path
+
+
+@case("hostile files and huge inputs", "load_npz with a sparse A_indices entry 10**8 (out of range)",
+      bg.ExportError, r"plant\.npz': malformed sparse matrix A: A_indices must lie in \[0, 2\)")
+def npz_index_out_of_range(d):
+    from bondgraph.export import load_npz
+    path = _two_state_npz(d, sparse=True)
+    with np.load(path) as z:
+        arrays = {k: z[k] for k in z.files}
+    arrays["A_indices"] = arrays["A_indices"].copy()
+    arrays["A_indices"][0] = 10**8
+    np.savez(path, **arrays)
+    load_npz(path)
+
+
+@case("hostile files and huge inputs", "load_npz with a complex A", bg.ExportError,
+      r"plant\.npz': the array A has dtype complex128; expected real numbers")
+def npz_complex(d):
+    from bondgraph.export import load_npz
+    load_npz(_two_state_npz(d, A=np.array([[1j, 0], [0, 1]])))
+
+
+@case("hostile files and huge inputs", "load_npz with repeated state names", bg.ExportError,
+      r"plant\.npz': state_names names 'x' more than once")
+def npz_duplicate_names(d):
+    from bondgraph.export import load_npz
+    load_npz(_two_state_npz(d, state_names=np.array(["x", "x"])))
+
+
+@case("hostile files and huge inputs", "load_npz of an empty file", bg.ExportError,
+      r"plant\.npz': not a numpy \.npz archive")
+def npz_empty(d):
+    from bondgraph.export import load_npz
+    (d.inp / "plant.npz").write_bytes(b"")
+    load_npz(d.inp / "plant.npz")
+
+
+@case("hostile files and huge inputs", "load_json of a FIFO (would block forever)", bg.ExportError,
+      r"cannot read plant file '.*plant\.json': it is a FIFO, not a regular file")
+def json_fifo(d):
+    import os
+    from bondgraph.export import load_json
+    if not (d.inp / "plant.json").exists():
+        os.mkfifo(d.inp / "plant.json")
+    load_json(d.inp / "plant.json")
+
+
+@case("hostile files and huge inputs", "export --params p.json, a symlink to /dev/zero", CliError,
+      r"exit 1: error: cannot read params file '.*p\.json': it is a character device")
+def cli_params_dev_zero(d):
+    model = model_file(d, MSD_FILE)
+    if not (d.inp / "p.json").is_symlink():
+        (d.inp / "p.json").symlink_to("/dev/zero")
+    cli("export", model, "--params", str(d.inp / "p.json"), "-o", str(d.out / "x.json"))
+
+
+@case("hostile files and huge inputs", "export_json onto a Unix socket", bg.ExportError,
+      r"cannot write '.*s\.json': it is a socket, not a regular file")
+def export_to_socket(d):
+    import socket
+    from bondgraph.export import export_json
+    P = bg.compile_plant(msd_model()).plant(VALUES)
+    (d.inp / "s.json").unlink(missing_ok=True)
+    with socket.socket(socket.AF_UNIX) as sock:
+        sock.bind(str(d.inp / "s.json"))
+        export_json(P, d.inp / "s.json")
+
+
+@case("hostile files and huge inputs", 'R("b", Symbol("p_m", real=True)) (is the state p_m)',
+      bg.NameClashError, r"R:b holds the symbol 'p_m', which prints like the state of I:m")
+def parameter_is_state_symbol(d):
+    g = bg.BondGraph("g")
+    g.add(bg.Se("F"), bg.One("v"), bg.I("m"), bg.R("b", sympy.Symbol("p_m", real=True)))
+    for t, h in [("F", "v"), ("v", "m"), ("v", "b")]:
+        g.connect(t, h)
+    bg.derive(g)
+
+
+@case("hostile files and huge inputs", 'batch({"m": ["1", "2"], ...}) (text in an array)',
+      bg.ParameterValueError, r"'m' must be finite real numbers \(int or float\); got <U1 values")
+def batch_text(d):
+    bg.compile_plant(msd_model()).batch({"m": ["1", "2"], "b": 6.0, "c": 0.25})
+
+
+@case("hostile files and huge inputs", 'plant.frequency_response("10")', NumericError,
+      r"omega holds text \(dtype <U2\), not numbers")
+def frequency_response_text(d):
+    bg.compile_plant(msd_model()).plant(VALUES).frequency_response("10")
+
+
+def _field(matrix):
+    g = bg.BondGraph("fld")
+    g.add(bg.Se("F1"), bg.Se("F2"), bg.IField("M", matrix))
+    g.connect("F1", "M")
+    g.connect("F2", "M")
+    return bg.derive(g, outputs={"v": bg.flow("M", port=1)})
+
+
+@case("hostile files and huge inputs", "simulate with IField [[m, 2m], [2m, m]] (indefinite) at m = 1",
+      bg.LawError, r"IF:M: the mass matrix is not positive definite \(smallest eigenvalue -1\)")
+def simulate_indefinite_field(d):
+    m = sympy.Symbol("m", positive=True)
+    bg.simulate(_field([[m, 2 * m], [2 * m, m]]), {"m": 1.0}, (0, 1), u=[1.0, 0.0])
+
+
+@case("hostile files and huge inputs", "IField [[m, m], [m, m]] (singular for every m)", bg.LawError,
+      r"IF:M: the mass matrix is singular for every parameter value")
+def singular_field(d):
+    m = sympy.Symbol("m", positive=True)
+    _field([[m, m], [m, m]])
+
+
+@case("hostile files and huge inputs", "simulate with m = 1e-9 (pole at -1e9) and the default RK45",
+      SimulationError, r"model 'msd' is stiff.*use method='Radau', 'BDF' or 'LSODA'")
+def simulate_stiff(d):
+    bg.simulate(msd_model(), {"m": 1e-9, "b": 1.0, "c": 1.0}, (0.0, 100.0), u=[1.0])
+
+
+@case("hostile files and huge inputs", "prbs(32) (4.3e9 samples)", IdentificationError,
+      r"length: the sequence would have 4,294,967,295 samples")
+def prbs_too_long(d):
+    from bondgraph.identification import prbs
+    prbs(32)
+
+
+@case("hostile files and huge inputs", "arx with a complex y", IdentificationError,
+      r"y: expected an array of real numbers; it holds complex numbers")
+def arx_complex(d):
+    from bondgraph.identification import arx
+    u = np.sin(np.arange(50.0))
+    arx(u + 1j, u, na=1, nb=1)
+
+
 def render(results: list[tuple[Case, str]]) -> str:
     """The catalogue as a Markdown page (``docs/errors.md``)."""
     lines = ["# Errors: the bad-input catalogue", "",

@@ -182,6 +182,15 @@ def atomic_write_many(items: Sequence[tuple[PathLike, Callable[[Any], None]]], *
         Naming the path that could not be written.  When a rollback itself
         fails (a disk removed mid-way) the message names the files left new.
 
+    Notes
+    -----
+    What sits at a target decides how it is written
+    (:mod:`bondgraph._support.write_target`): a regular file is replaced keeping
+    its mode; a symbolic link is kept and the file it leads to replaced; a
+    character device or FIFO is written straight through (no temporary
+    file, the node stays); a directory, block device or socket is refused.
+    Several files take an exclusive lock on their folders while written.
+
     Examples
     --------
     >>> import tempfile, os
@@ -191,19 +200,42 @@ def atomic_write_many(items: Sequence[tuple[PathLike, Callable[[Any], None]]], *
     ...     sorted(os.listdir(d))
     ['a.txt', 'b.txt']
     """
-    targets = [target_path(path) for path, _ in items]
+    from .write_target import inspect_target, locked_folders
+
+    kinds = [inspect_target(target_path(path), ExportError) for path, _ in items]
     seen: set[str] = set()
-    for target in targets:
-        key = os.path.normcase(os.path.abspath(target))
+    for kind in kinds:
+        key = os.path.normcase(os.path.abspath(kind.path))
         if key in seen:
-            raise ExportError(f"cannot write '{target}' twice in one operation", path=str(target))
+            raise ExportError(f"cannot write '{kind.given}' twice in one operation", path=str(kind.given))
         seen.add(key)
+    if len(items) > 1:
+        with locked_folders([kind.path for kind in kinds]):
+            _write_many(kinds, [writer for _, writer in items], binary)
+    else:
+        _write_many(kinds, [writer for _, writer in items], binary)
+
+
+def _write_many(kinds: Sequence[Any], writers: Sequence[Callable[[Any], None]], binary: bool) -> None:
+    """:func:`atomic_write_many` once the targets are classified (and locked)."""
+    from .write_target import render, write_through
+
     temps: list[tuple[str, Path]] = []
+    through: list[tuple[Any, bytes]] = []           # devices and FIFOs: written last, straight
     backups: list[str] = []                         # every backup made, removed at the end
     renamed: list[tuple[Path, Optional[str]]] = []  # (target, its backup or None if it was new)
     try:
-        for target, (_, writer) in zip(targets, items):
-            temps.append((_write_temp(target, writer, binary), target))
+        for kind, writer in zip(kinds, writers):
+            if kind.through:
+                try:
+                    through.append((kind, render(writer, binary)))
+                except ExportError:
+                    raise
+                except Exception as exc:
+                    raise ExportError(f"cannot write '{kind.given}': {type(exc).__name__}: {exc}",
+                                      path=str(kind.given), errno=getattr(exc, "errno", None)) from exc
+            else:
+                temps.append((_write_temp(kind.path, writer, binary, kind.old), kind.path))
         for tmp, target in temps:
             # one file: the rename alone is atomic; several: keep each old file to roll back to
             backup = _backup(target) if len(temps) > 1 else None
@@ -215,6 +247,8 @@ def atomic_write_many(items: Sequence[tuple[PathLike, Callable[[Any], None]]], *
                 raise ExportError(f"cannot write '{target}': {exc.strerror or exc}",
                                   path=str(target), errno=exc.errno) from exc
             renamed.append((target, backup))
+        for kind, data in through:
+            write_through(kind, data, ExportError)
     except BaseException as exc:
         left = _roll_back(renamed)
         if left and isinstance(exc, ExportError):
@@ -335,7 +369,8 @@ def target_path(path: PathLike) -> Path:
     return Path(checked_path(path, "output", ExportError))
 
 
-def _write_temp(target: Path, writer: Callable[[Any], None], binary: bool) -> str:
+def _write_temp(target: Path, writer: Callable[[Any], None], binary: bool,
+                old: Optional[os.stat_result] = None) -> str:
     folder = target.parent if str(target.parent) else Path(".")
     try:
         if target.is_dir():
@@ -358,8 +393,9 @@ def _write_temp(target: Path, writer: Callable[[Any], None], binary: bool) -> st
             writer(fh)
             fh.flush()
             os.fsync(fh.fileno())
-        mode = 0o666 & ~_umask()
-        os.chmod(tmp, mode)
+        from .write_target import copy_owner_and_mode
+
+        copy_owner_and_mode(tmp, old, 0o666 & ~_umask())      # a 0600 file stays 0600
     except ExportError:
         unlink_quietly(tmp)
         raise
@@ -408,12 +444,9 @@ def read_table(path: Any, what: str, error: Callable[[str], Exception]) -> tuple
     suffix = Path(name).suffix.lower()
     if suffix not in (".json", ".toml"):
         raise error(f"{what} '{name}' must be .json or .toml")
-    try:
-        raw = Path(name).read_bytes()
-    except FileNotFoundError:
-        raise error(f"{what} '{name}' does not exist") from None
-    except OSError as exc:
-        raise error(f"cannot read {what} '{name}': {exc.strerror or exc}") from None
+    from .safe_read import TABLE_LIMIT, read_regular
+
+    raw = read_regular(name, what, error, TABLE_LIMIT)     # a regular file, kilobytes: no FIFO, no /dev/zero
     label = f"{what} '{name}'"
     if suffix == ".json":
         return name, decode_json(raw, label, error)

@@ -12,7 +12,8 @@ given by ``--operating-point FILE`` or found by ``--trim`` (see
 Exit status: 0 on success, 1 when the command fails (the reason is printed
 as ``error: ...`` on stderr, never a traceback, naming the file at fault),
 2 for bad command-line usage (including an operating point whose names or
-values do not fit the model), 130 when interrupted (Ctrl-C).  Files are
+values do not fit the model), 130 when interrupted (Ctrl-C), 143 on SIGTERM
+and 129 on SIGHUP (cleaned up as for Ctrl-C).  Files are
 written all or nothing: a failed command leaves no partial or temporary
 file, and the ``.c``/``.h`` pair of ``export --format c`` is replaced
 together or not at all.
@@ -108,21 +109,35 @@ def main(argv: Optional[Sequence[str]] = None) -> int:
             parser.error("tf: --trim solves at parameter values: add --numeric")
     except SystemExit as exc:  # --help, --version, usage errors
         return int(exc.code or 0) if not isinstance(exc.code, str) else 2
+    from ._signals import ClosedStream, exit_status, signals_as_interrupts
+
+    closed = sys.stdout is None             # started with stdout closed (>&-): Python drops prints
     try:
-        args.func(args)
+        if closed:
+            sys.stdout = ClosedStream()     # a print is then a failure, not silently lost
+        with signals_as_interrupts():       # SIGTERM, SIGHUP: cleaned up as Ctrl-C is
+            args.func(args)
     except KeyboardInterrupt as exc:
         _report(str(exc) or "interrupted")
-        return 130
+        return exit_status(exc)
     except BrokenPipeError:
         _stdout_to_devnull()
         _report("standard output was closed before everything was printed")
         return 1
-    except BondGraphError as exc:
-        _report(_naming_path(_text(exc), args))
+    except BondGraphError as exc:     # an option's error names the option, not the model file
+        _report(_text(exc) if getattr(exc, "culprit_named", False) else _naming_path(_text(exc), args))
         return getattr(exc, "exit_status", 1)
+    except MemoryError:       # a size, not the model file's fault: say what to do
+        _report(f"out of memory in 'bondgraph {args.command}': the computation is too large for "
+                "this machine (a symbolic result over many parameters?); give numeric values "
+                "(--params, and --numeric for tf) or reduce the model")
+        return 1
     except Exception as exc:  # anything else is reported the same way: never a traceback
         _report(_naming_path(_message(exc), args))
         return 1
+    finally:
+        if closed:
+            sys.stdout = None  # type: ignore[assignment]
     return 0
 
 

@@ -19,6 +19,33 @@ __all__ = ["cmd_sweep"]
 _SWEEP_FORMATS = {".csv": "csv", ".parquet": "parquet"}
 
 
+#: the most samples a sweep draws (the design alone is 8 bytes per sample and parameter)
+MAX_SAMPLES = 10**7
+
+
+class OptionError(CLIError):
+    """A command-line option or a [study] option is wrong; the message names it (no model file)."""
+
+    culprit_named = True
+
+
+def _check_options(args, opts) -> None:
+    """n, seed, chunk size and workers checked before the model is loaded, naming their source."""
+    checks = (("n", "--n", 1, MAX_SAMPLES), ("seed", "--seed", 0, None),
+              ("chunk_size", "--chunk-size", 1, None), ("workers", "--workers", 1, None))
+    for key, flag, low, high in checks:
+        given = getattr(args, key, None)
+        where = flag if given is not None else f"{key} in the [study] table of '{args.params}'"
+        value = given if given is not None else opts.get(key)
+        if value is None:
+            continue
+        if isinstance(value, bool) or not isinstance(value, int):
+            raise OptionError(f"{where} must be an integer; got {value!r}")
+        if value < low or (high is not None and value > high):
+            bound = f"between {low} and {high:,}" if high is not None else f"at least {low}"
+            raise OptionError(f"{where} must be {bound}; got {value:,}")
+
+
 def cmd_sweep(args) -> None:
     """``bondgraph sweep``: a parameter study (bondgraph.study) written as CSV or parquet."""
     import warnings
@@ -47,6 +74,7 @@ def cmd_sweep(args) -> None:
 
         raise CLIError(f"no metric: give --metric NAME ({', '.join(BUILTIN)}) or metric = [...] "
                        f"in the [study] table of '{args.params}'")
+    _check_options(args, opts)
     from ..modelfile import load_model
 
     defn = load_model(args.model)

@@ -209,6 +209,9 @@ class _Deriver:
                 self._claim(sym.name, f"the input of {el.label()}")
                 self.input_of[el.name] = sym
                 self.input_syms.append(sym)
+        from .name_policy import check_element_symbols
+
+        check_element_symbols(self.flat.elements, self.roles, self.flat.name)  # whatever assumptions
         for sym in self.states:
             self.xdot[sym] = sympy.Dummy(f"d{sym.name}/dt", real=True)
         for sym in self.input_syms:

@@ -125,18 +125,46 @@ def compile_library(sources: Mapping[str, bytes], c_files: Sequence[str], output
             Path(tmp, name).write_bytes(data)
         # relative names, run in the folder: no temporary path ends up in the binary
         argv = [*command, *CFLAGS, *extra, "-I.", "-o", output, *c_files, "-lm"]
-        try:
-            done = subprocess.run(argv, capture_output=True, text=True, timeout=1800, cwd=tmp)
-        except OSError as exc:
-            raise FMUError(f"cannot run the C compiler {command[0]!r}: {exc.strerror or exc}") from None
-        except subprocess.TimeoutExpired:
-            raise FMUError("the C compiler took more than 30 minutes") from None
+        done = _run_compiler(argv, tmp, command[0])
         if done.returncode != 0:
             messages = (done.stderr or done.stdout).strip()
             if len(messages) > 4000:
                 messages = "...\n" + messages[-4000:]
             raise FMUError(f"the C compiler failed (exit status {done.returncode}):\n{messages}")
-        return Path(tmp, output).read_bytes()
+        try:
+            return Path(tmp, output).read_bytes()
+        except OSError:
+            raise FMUError(f"the C compiler {command[0]!r} exited successfully but wrote no "
+                           f"{output}: is it a C compiler? (command: {' '.join(command)})") from None
+
+
+def _run_compiler(argv: Sequence[str], folder: str, name: str) -> "subprocess.CompletedProcess[str]":
+    """Run the compiler in its own process group, killed with everything it started on any way out.
+
+    An interrupt, SIGTERM (raised as an interrupt by the command line) or the
+    30-minute timeout kills the group (the driver and its ``cc1``/``ld``)
+    and waits for it, so the temporary folder is removed with no orphan
+    still writing into it.
+    """
+    import signal
+
+    try:
+        proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                cwd=folder, start_new_session=True)
+    except OSError as exc:
+        raise FMUError(f"cannot run the C compiler {name!r}: {exc.strerror or exc}") from None
+    try:
+        out, err = proc.communicate(timeout=1800)
+    except BaseException as exc:
+        try:
+            os.killpg(proc.pid, signal.SIGKILL)
+        except (OSError, AttributeError):
+            proc.kill()
+        proc.wait()
+        if isinstance(exc, subprocess.TimeoutExpired):
+            raise FMUError("the C compiler took more than 30 minutes") from None
+        raise
+    return subprocess.CompletedProcess(argv, proc.returncode, out, err)
 
 
 def token_for(*parts: bytes) -> str:

@@ -75,6 +75,7 @@ def check_finite_float(value: object, name: str) -> float:
 def as_signal(x: ArrayLike, name: str, *, min_length: int = 1,
               dtype: type = float) -> NDArray:
     """Return ``x`` as a finite 1-D array of at least ``min_length`` samples."""
+    _refuse_text_and_complex(x, name, dtype)
     try:
         arr: NDArray = np.asarray(x, dtype=dtype)
     except (TypeError, ValueError):
@@ -91,6 +92,19 @@ def as_signal(x: ArrayLike, name: str, *, min_length: int = 1,
         raise IdentificationError(
             f"{name}: expected finite values, found {bad} NaN/inf entries")
     return arr
+
+
+def _refuse_text_and_complex(x: object, name: str, dtype: DTypeLike) -> None:
+    """Text is not parsed into numbers; complex data is not cast to real (issue 23, items 9, 11)."""
+    from .._support.numeric_input import dtype_problem
+
+    try:
+        raw = np.asarray(x)
+    except (TypeError, ValueError):
+        return                                  # ragged: the caller's conversion names it
+    problem = dtype_problem(raw, complex_ok=np.dtype(dtype).kind == "c")
+    if problem is not None:
+        raise IdentificationError(f"{name}: expected an array of real numbers; it {problem}")
 
 
 def check_same_length(a: NDArray, name_a: str, b: NDArray, name_b: str) -> None:
@@ -121,6 +135,7 @@ def finite_array(x: ArrayLike, name: str, *, dtype: DTypeLike = float,
     ...
     bondgraph.identification.IdentificationError: y: expected finite values, found 1 NaN/inf entries
     """
+    _refuse_text_and_complex(x, name, dtype)
     try:
         arr = np.asarray(x, dtype=dtype)
     except (TypeError, ValueError):

@@ -166,9 +166,16 @@ def estimate_frf(x: ArrayLike, y: ArrayLike, *, fs: float,
             f"{2 * nperseg - noverlap} samples, got {n}")
 
     kw = dict(fs=fs, window=window, nperseg=nperseg, noverlap=noverlap, detrend=detrend)
-    f, gxx = welch(x, **kw)
-    _, gyy = welch(y, **kw)
-    _, gxy = csd(x, y, **kw)
+    try:
+        f, gxx = welch(x, **kw)
+        _, gyy = welch(y, **kw)
+        _, gxy = csd(x, y, **kw)
+    except ValueError as exc:           # an unknown window name, a window of the wrong length
+        raise IdentificationError(f"window: scipy refused {window!r}: {exc}") from None
+    if not np.any(gxx):
+        raise IdentificationError(
+            "x: the input has no power at any frequency (a constant or zero record, removed by "
+            "detrend): H1 and H2 would be NaN everywhere; excite the system with a varying input")
     with np.errstate(divide="ignore", invalid="ignore"):
         h1 = gxy / gxx
         h2 = gyy / np.conj(gxy)

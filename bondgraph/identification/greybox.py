@@ -308,6 +308,10 @@ def greybox_fit(model: Model | NumericModel, data: TimeData | FrequencyData | FR
         target = np.asarray(fdata.response)
         sqrt_w = np.sqrt(weights)
         n_res = 2 * int(np.count_nonzero(weights > 0))
+    _check_excited(tdata, fdata, ins, x0_arr if tdata is not None else None, target)
+    if max_nfev is not None and (isinstance(max_nfev, bool) or not isinstance(max_nfev, int)
+                                 or max_nfev < 1):
+        raise IdentificationError(f"max_nfev: expected None or an integer >= 1, got {max_nfev!r}")
     if n_res <= len(free):
         raise IdentificationError(
             f"data: record too short: {n_res} residuals for {len(free)} free parameters "
@@ -363,6 +367,14 @@ def greybox_fit(model: Model | NumericModel, data: TimeData | FrequencyData | FR
         cov = cov_x * np.outer(scale, scale)           # physical units
     else:
         cov = np.full((len(free), len(free)), np.nan)
+        import warnings
+
+        from ..errors import BondGraphWarning
+        warnings.warn(f"greybox_fit: the data do not determine every free parameter (the "
+                      f"Jacobian has rank {rank} for {len(free)} free parameters "
+                      f"{', '.join(free)}): the standard errors and confidence intervals are "
+                      "NaN; excite the model more, or fix some parameters", BondGraphWarning,
+                      stacklevel=2)
     se = np.sqrt(np.diag(cov))
     tq = float(scipy.stats.t.ppf(0.975, dof))
     residuals = target - model_out
@@ -390,6 +402,21 @@ def greybox_fit(model: Model | NumericModel, data: TimeData | FrequencyData | FR
         input_names=in_names, output_names=tuple(nm.output_names[i] for i in outs),
         plant=plant_at(p_hat), success=bool(sol.success), message=str(sol.message),
         nfev=int(sol.nfev), cost=float(0.5 * resid_w @ resid_w))
+
+
+def _check_excited(tdata, fdata, ins, x0, target) -> None:
+    """Refuse data that hold no information: a zero input (and zero initial state), a zero response."""
+    if tdata is not None:
+        u = np.asarray(tdata.u)
+        u = u[:, ins] if u.ndim == 2 else u
+        if not np.any(u) and (x0 is None or not np.any(x0)):
+            raise IdentificationError(
+                "data: the input is zero at every sample (and the initial state is zero): the "
+                "record does not excite the model, so no parameter can be identified")
+    elif not np.any(target):
+        raise IdentificationError(
+            "data: the frequency response is zero at every frequency: it holds no information "
+            "about the parameters")
 
 
 def _nrmse_fit(y: NDArray, yhat: NDArray) -> float:

@@ -58,6 +58,10 @@ def prbs_period(order: int, *, clock_divider: int = 1) -> int:
     return (2**order - 1) * clock_divider
 
 
+#: the longest sequence :func:`prbs` builds (about 17 bytes a sample while built: ~1.1 GiB)
+PRBS_MAX_SAMPLES = 2**26
+
+
 def prbs(order: int, *, amplitude: float = 1.0, offset: float = 0.0,
          clock_divider: int = 1, periods: int | None = None,
          length: int | None = None, state: ArrayLike | None = None
@@ -132,6 +136,11 @@ def prbs(order: int, *, amplitude: float = 1.0, offset: float = 0.0,
                 f"state: expected {order} bits of 0/1, not all zero, got {state!r}")
         state = st.astype(np.int8)
 
+    if length > PRBS_MAX_SAMPLES:      # refused before allocating (prbs(32) needed 32 GiB)
+        raise IdentificationError(
+            f"length: the sequence would have {length:,} samples ({length * 17 / 2**30:.3g} GiB while "
+            f"built), more than the {PRBS_MAX_SAMPLES:,} prbs() builds; pass length= (a part of "
+            f"the period) or a lower order (order {order} has a period of {n_bits_period:,} bits)")
     n_bits = -(-length // clock_divider)  # ceil division
     bits, _ = max_len_seq(order, state=state, length=n_bits)
     levels = offset + amplitude * (2.0 * bits.astype(np.float64) - 1.0)

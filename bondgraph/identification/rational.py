@@ -173,6 +173,9 @@ def fit_rational_detailed(omega: ArrayLike, h: ArrayLike, *, num_order: int,
             raise IdentificationError("weights: expected non-negative values")
     sk_iterations = check_int(sk_iterations, "sk_iterations", minimum=0)
     tol = check_positive_float(tol, "tol")
+    with np.errstate(over="ignore"):
+        if omega.size and not np.isfinite(np.power(np.max(omega), float(max(m, n, 1))) * 1e3):
+            raise _overflow(omega, max(m, n))
 
     n_unknown = m + 1 + n
     active = w > 0
@@ -231,6 +234,8 @@ def fit_rational_detailed(omega: ArrayLike, h: ArrayLike, *, num_order: int,
     a = a_scaled * pw_a
     b = b_scaled * pw_b
     num, den = b[::-1].copy(), a[::-1].copy()
+    if not (np.all(np.isfinite(num)) and np.all(np.isfinite(den))):
+        raise _overflow(omega, max(m, n))
 
     s_full = 1j * omega
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
@@ -240,6 +245,13 @@ def fit_rational_detailed(omega: ArrayLike, h: ArrayLike, *, num_order: int,
     return RationalFit(tf=tf, num=readonly_copy(num), den=readonly_copy(den),
                        iterations=iterations, converged=converged,
                        reflected_poles=reflected, weighted_rms_error=err)
+
+
+def _overflow(omega: NDArray, order: int) -> IdentificationError:
+    return IdentificationError(
+        f"omega: the coefficients of the fitted B(s)/A(s) overflow (frequencies up to "
+        f"{float(np.max(np.abs(omega))):.3g} rad/s raised to the power {order} exceed the range "
+        "of a float); give the frequencies in a smaller unit (e.g. rad/ms) or lower the orders")
 
 
 def fit_rational(omega: ArrayLike, h: ArrayLike, *, num_order: int, den_order: int,

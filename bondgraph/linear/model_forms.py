@@ -130,7 +130,11 @@ def transfer_function(eqs: StateEquations, input=None, output=None, *,
     G = tf_transfer_function(A, B, C, D, E=E, input=input, output=0,
                              input_names=eqs.input_names,
                              output_names=(eqs.output_names[i],), s=s, **options)
-    return dataclasses.replace(G, known_parameters=eqs.known_parameters)
+    augmented = getattr(eqs, "augmented", None)
+    fields = () if augmented is None else tuple(
+        el for el in augmented.flat.elements
+        if getattr(el, "matrix", None) is not None and hasattr(el, "check_values"))
+    return dataclasses.replace(G, known_parameters=eqs.known_parameters, value_checks=fields)
 
 
 def transfer_matrix(eqs: StateEquations, **options):

@@ -54,8 +54,35 @@ def placeholders(prefix: str, n: int) -> list[sympy.Symbol]:
 _HAS_DOCLIMIT = "docstring_limit" in inspect.signature(sympy.lambdify).parameters
 
 
+def _check_evaluable(exprs: Sequence[sympy.Expr]) -> None:
+    """Refuse what numpy code cannot evaluate (audit P09, S19) before it is generated.
+
+    An undefined ``sympy.Function("g")(k)`` became a ``NameError`` from the
+    generated code at the first call; a ``Derivative`` a ``ValueError`` from
+    sympy's printer.
+    """
+    from .errors import NumericError
+
+    for ex in exprs:
+        if not isinstance(ex, sympy.Basic):
+            continue
+        undefined = sorted({str(a) for a in ex.atoms(AppliedUndef) if not hasattr(a.func, "_imp_")})
+        if undefined:
+            raise NumericError(
+                f"{', '.join(undefined)} calls an undefined sympy Function, which has no numeric "
+                "value: define it with sympy.implemented_function(name, python_function) or write "
+                "the expression it stands for")
+        derivatives = sorted({str(a) for a in ex.atoms(sympy.Derivative)})
+        if derivatives:
+            raise NumericError(
+                f"{', '.join(derivatives)} is a symbolic derivative, which numeric code cannot "
+                "evaluate: take it by hand (or use an output the model has, e.g. an effort or "
+                "flow instead of the derivative of a displacement)")
+
+
 def lambdify_cse(args: Sequence, exprs: Sequence[sympy.Expr]) -> Callable:
     """``sympy.lambdify(args, list(exprs), "numpy", cse=True)``, without the long docstring."""
+    _check_evaluable(exprs)
     extra = {"docstring_limit": 0} if _HAS_DOCLIMIT else {}
     return sympy.lambdify(list(args), list(exprs), modules="numpy", cse=True, **extra)
 

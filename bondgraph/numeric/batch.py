@@ -103,6 +103,9 @@ class BatchStateSpace:
 
     def frequency_response(self, omega: Union[float, Sequence[float], np.ndarray]) -> np.ndarray:
         """Batched ``H(jw)``, complex array of shape ``(P, len(omega), noutputs, ninputs)``."""
+        from .._support.numeric_input import numeric_array
+
+        omega = numeric_array(omega, "omega", NumericError)
         return add_derivatives(frequency_response(self.A, self.B, self.C, self.D, omega),
                                self.D_derivatives, omega)
 
@@ -218,7 +221,9 @@ class SparseBatchStateSpace:
     def frequency_response(self, omega: Union[float, Sequence[float], np.ndarray]) -> np.ndarray:
         """``H(jw)`` of every plant, complex ``(P, len(omega), noutputs, ninputs)``: a sparse
         LU per plant and frequency, one column ordering for all."""
-        w = np.atleast_1d(np.asarray(omega, dtype=float))
+        from .._support.numeric_input import numeric_array
+
+        w = np.atleast_1d(numeric_array(omega, "omega", NumericError))
         if w.ndim != 1:
             raise NumericError(f"omega must be a number or a 1-D array; got shape {w.shape}")
         solver = ShiftedSolver(self.patterns[0])

@@ -87,6 +87,11 @@ class _CompiledModel:
         if not isinstance(model, StateEquations):
             raise NumericError("expected a bondgraph Model (from bondgraph.derive); "
                                f"got {type(model).__name__}")
+        from ._compile import _check_evaluable
+        try:
+            _check_evaluable((*model.rhs, *model.output_exprs))
+        except NumericError as exc:
+            raise NumericError(f"model {model.name!r}: {exc}") from None
         self._model = model
         self._params: tuple[sympy.Symbol, ...] = model.parameters
 

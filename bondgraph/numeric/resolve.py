@@ -154,12 +154,9 @@ def _array(value: Any, name: str, where: str) -> np.ndarray:
         raise ParameterValueError(f"{where}{name} must be finite real numbers; got bools")
     if arr.dtype.kind == "c":
         raise ParameterValueError(f"{where}{name} must be finite real numbers; got complex values")
-    if arr.dtype.kind not in "iuf":
-        try:
-            arr = arr.astype(float)
-        except (TypeError, ValueError):
-            raise ParameterValueError(
-                f"{where}{name} must be finite real numbers; got {arr.dtype} values") from None
+    if arr.dtype.kind not in "iuf":            # text is never parsed into numbers (issue 23, item 9)
+        raise ParameterValueError(
+            f"{where}{name} must be finite real numbers (int or float); got {arr.dtype} values")
     return arr.astype(float, copy=False)
 
 

@@ -35,6 +35,8 @@ from ..equations import StateEquations
 from ..signals import t as T_SYM
 from ._compile import CallbackFailure, CompiledFunction, guard_user_functions, placeholders, real_array
 from ._linalg import freeze
+from ._field_values import check_fields_at
+from ._stiffness import check_stiffness
 from .errors import NumericError, SimulationError
 from .resolve import ParameterValues, resolve_parameters
 from .plant import _CompiledModel, control_labels
@@ -593,6 +595,7 @@ def simulate(model: Union[StateEquations, NumericDynamics], values: ParameterVal
                         atol=atol, max_step=max_step)
     dyn = model if isinstance(model, NumericDynamics) else NumericDynamics(model)
     p = dyn.parameter_vector(values)
+    check_fields_at(dyn.model, values, dyn.parameter_names, p.tolist())   # as plant() does
     m = len(dyn.input_names)
     t0, t1 = _time_span(t_span)
     x_init = _initial_state(x0, dyn.state_names)
@@ -608,6 +611,7 @@ def simulate(model: Union[StateEquations, NumericDynamics], values: ParameterVal
     def rhs(t: float, x: np.ndarray) -> np.ndarray:
         return _checked_derivatives(dyn, t, x, ufun(t), p, context)
 
+    check_stiffness(rhs, t0, t1, np.asarray(x_init, dtype=float), solver, dyn.name)
     try:
         with np.errstate(all="ignore"):
             sol = solve_ivp(rhs, (t0, t1), x_init, method=solver, t_eval=times, rtol=r_tol,

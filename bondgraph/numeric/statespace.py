@@ -44,7 +44,9 @@ def _dense(value: Any, label: str) -> np.ndarray:
     if isinstance(value, np.ndarray) and value.dtype == np.float64 and not value.flags.writeable:
         arr = value                           # already read-only float64 (compile_plant's): no copy
     else:
-        arr = np.array(value, dtype=float)
+        from .._support.numeric_input import numeric_array
+
+        arr = np.array(numeric_array(value, f"state-space matrix {label}", NumericError), dtype=float)
     if arr.ndim != 2:
         raise NumericError(f"state-space matrix {label} must be 2-D; got shape {arr.shape}")
     return freeze(arr)
@@ -54,7 +56,9 @@ def _sparse(value: Any, label: str) -> "scipy.sparse.csr_array":
     import scipy.sparse
 
     if not issparse(value):
-        value = np.asarray(value, dtype=float)
+        from .._support.numeric_input import numeric_array
+
+        value = numeric_array(value, f"state-space matrix {label}", NumericError)
         if value.ndim != 2:
             raise NumericError(f"state-space matrix {label} must be 2-D; got shape {value.shape}")
     elif value.ndim != 2:
@@ -250,7 +254,9 @@ class NumericStateSpace(SignalCounts):
             Complex, shape ``(len(omega), noutputs, ninputs)``; ``nan`` where
             ``jw`` is an eigenvalue of ``A``.
         """
-        w = np.atleast_1d(np.asarray(omega, dtype=float))
+        from .._support.numeric_input import numeric_array
+
+        w = np.atleast_1d(numeric_array(omega, "omega", NumericError))
         if w.ndim != 1:
             raise NumericError(f"omega must be a number or a 1-D array; got shape {w.shape}")
         if self.is_sparse:

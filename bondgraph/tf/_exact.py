@@ -75,7 +75,15 @@ def _poly_values(P: sp.Poly, gens: tuple[sp.Expr, ...], values: Mapping) -> list
     else:
         dgens = dom.symbols if hasattr(dom, "symbols") else dom.gens
         vals = [values[g] for g in dgens]
-    return [float(_eval_coeff(c, dom, vals)) for c in P.rep.to_list()] or [0.0]
+    exact = [_eval_coeff(c, dom, vals) for c in P.rep.to_list()]
+    try:
+        return [float(c) for c in exact] or [0.0]
+    except OverflowError:
+        from ..errors import ParameterValueError
+        given = ", ".join(f"{g} = {float(values[g]):.3g}" for g in gens if g in values)
+        raise ParameterValueError(
+            f"a coefficient of the transfer function is beyond the range of a float at {given} "
+            "(a parameter near 1e-308 or 1e308?): rescale the units of the parameters") from None
 
 
 def _domain_gens(P: sp.Poly) -> tuple[sp.Expr, ...]:

@@ -72,6 +72,8 @@ class SymbolicTF:
     output_name: str = "y"
     #: names of every parameter of the model definition (see :mod:`bondgraph.parameters`)
     known_parameters: tuple[str, ...] = field(default=(), compare=False, repr=False)
+    #: the model's fields, each checked (``check_values``) at the values :meth:`subs` is given
+    value_checks: tuple = field(default=(), compare=False, repr=False)
 
     def __post_init__(self):
         for label in ("num", "den"):
@@ -208,6 +210,8 @@ class SymbolicTF:
                            den=sp.Poly(self.den.as_expr().xreplace(exact), self.s))
         gens = tuple(dict.fromkeys(_domain_gens(self.num) + _domain_gens(self.den)))
         vm = _value_map(gens, values, self.known_parameters)
+        for element in self.value_checks:       # a field positive definite at these values
+            element.check_values(values or {})
         return NumericTF(tuple(_poly_values(self.num, gens, vm)),
                          tuple(_poly_values(self.den, gens, vm)),
                          self.input_name, self.output_name, str(self.s))

@@ -266,7 +266,7 @@ def test_load_json_optional_fields_and_empty_matrices(tmp_path):
 
 
 def test_load_json_reading_errors(tmp_path):
-    with pytest.raises(ExportError, match=f"cannot read '{tmp_path}'"):
+    with pytest.raises(ExportError, match=f"cannot read plant file '{tmp_path}': it is a directory"):
         load_json(tmp_path)
     with pytest.raises(ExportError, match="NUL character"):
         load_json("a\0.json")

@@ -324,7 +324,7 @@ def test_cli_sweep_writes_the_table(study_dir, capsys):
     ('[sweep]\nk = [1, 2, 3]\n', [], "bounds \\[lo, hi\\]; got 3 values"),
     ('[sweep]\nk = { distribution = "nope" }\n', [], "not a scipy.stats distribution"),
     ('[values]\nm = 1\n', [], "has no \\[sweep\\] table"),
-    ('[sweep]\nk = [1, 2]\n', ["--design", "grid", "--n", "0"], "n must be a positive integer"),
+    ('[sweep]\nk = [1, 2]\n', ["--design", "grid", "--n", "0"], "--n must be between 1 and 10,000,000"),
     ('[sweep]\nk = [1, 2]\n[study]\nmetric = "nope"\n', None, "unknown metric 'nope'"),
 ])
 def test_cli_sweep_errors_leave_no_file(study_dir, capsys, study, argv, message):

@@ -131,7 +131,8 @@ def inverse(M: sympy.ImmutableMatrix) -> sympy.ImmutableMatrix:
 
 
 def partial_solve(T: sympy.MatrixBase, w_known: Mapping[int, sympy.Expr],
-                  y_known: Mapping[int, sympy.Expr]) -> tuple[list, list]:
+                  y_known: Mapping[int, sympy.Expr], *, owner: str = "a field",
+                  what: str = "matrix") -> tuple[list, list]:
     """Both vectors of ``y = T w`` from ``w`` on some indices and ``y`` on the others.
 
     With ``S`` the indices of known ``w`` and ``U`` the rest:
@@ -155,7 +156,15 @@ def partial_solve(T: sympy.MatrixBase, w_known: Mapping[int, sympy.Expr],
         wS = sympy.Matrix([w_known[i] for i in S]) if S else sympy.zeros(0, 1)
         yU = sympy.Matrix([y_known[i] for i in U])
         rhs = yU - (T.extract(U, S) * wS if S else sympy.zeros(len(U), 1))
-        wU = inverse(sympy.ImmutableMatrix(T.extract(U, U))) * rhs
+        block = sympy.ImmutableMatrix(T.extract(U, U))
+        try:
+            wU = inverse(block) * rhs
+        except ValueError as exc:       # sympy's NonInvertibleMatrixError: singular for all values
+            rows = ", ".join(str(i + 1) for i in U)
+            raise FieldError(
+                f"{owner}: the {what} is singular for every parameter value (its block on ports "
+                f"{rows}, {block.tolist()}, has no inverse), so this causality cannot be solved; a "
+                f"passive field needs a positive definite {what}") from exc
         for k, i in enumerate(U):
             w[i], y[i] = wU[k], y_known[i]
     full = sympy.Matrix(w)

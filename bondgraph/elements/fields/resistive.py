@@ -99,7 +99,8 @@ class RField(Field):
                 if not local.effort_in(p)}
         e_in = {p: local.input(p) for p in range(self.ports) if local.effort_in(p)}
         if self.matrix is not None:
-            return partial_solve(self.matrix, f_in, e_in)
+            return partial_solve(self.matrix, f_in, e_in, owner=self.label(),
+                                 what=getattr(self, "matrix_name", "matrix"))
         own = self.variables
         f = [f_in.get(p) for p in range(self.ports)]
         if e_in:

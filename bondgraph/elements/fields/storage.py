@@ -126,10 +126,12 @@ class StorageField(Field):
         z_b = {p: (local.sign(p) * local.input(p) if self._integral(p) else local.input(p))
                for p in b}
         if self.matrix is not None and self.form == "inverse":    # x = A z
-            z, x = partial_solve(self.matrix, z_b, x_a)
+            z, x = partial_solve(self.matrix, z_b, x_a, owner=self.label(),
+                                 what=getattr(self, "matrix_name", "matrix"))
             return x, z
         if self.matrix is not None:                                # z = Q x
-            return partial_solve(self.matrix, x_a, z_b)
+            return partial_solve(self.matrix, x_a, z_b, owner=self.label(),
+                                 what=getattr(self, "matrix_name", "matrix"))
         own = self.variables
         grad = [sympy.diff(self.energy, v) for v in own]
         known = {own[p]: x_a[p] for p in a}
