@@ -296,7 +296,7 @@ def load_npz(path: PathLike) -> NumericStateSpace:
     >>> back.is_sparse, back.A.toarray().tolist(), dict(back.parameters)
     (True, [[-1.0, 0.0], [1.0, -2.0]], {'k': 2.0})
     """
-    from ._npz_read import read_npz
+    from ._support.npz_read import read_npz
 
     return read_npz(str(target_path(path)), FORMAT_NAME, FORMAT_VERSION)
 

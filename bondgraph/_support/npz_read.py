@@ -20,9 +20,9 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ._support.safe_read import PLANT_LIMIT, open_regular
-from .errors import BondGraphError
-from ._support.files import ExportError
+from .safe_read import PLANT_LIMIT, open_regular
+from ..errors import BondGraphError
+from .files import ExportError
 
 __all__ = ["ARRAYS_LIMIT", "read_npz"]
 
