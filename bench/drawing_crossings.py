@@ -28,7 +28,7 @@ sys.path.insert(0, str(ROOT / "tests"))
 
 import bondgraph as bg  # noqa: E402
 from bondgraph.drawing.geometry import bond_crossings, bonds_through_labels, printed_size  # noqa: E402
-from bondgraph.drawing.scene import _cross_segments  # noqa: E402
+from bondgraph.drawing.primitives import cross_segments  # noqa: E402
 from bondgraph.drawing.scene import build_scene  # noqa: E402
 from bondgraph.drawing.source import diagram  # noqa: E402
 
@@ -52,7 +52,7 @@ def dot_crossings(diag) -> int:
         for eb, pb in edges[i + 1:]:
             if ea & eb:
                 continue
-            if any(_cross_segments(p, q, r, s) for p, q in zip(pa, pa[1:]) for r, s in zip(pb, pb[1:])):
+            if any(cross_segments(p, q, r, s) for p, q in zip(pa, pa[1:]) for r, s in zip(pb, pb[1:])):
                 count += 1
     return count
 

@@ -30,7 +30,11 @@ from __future__ import annotations
 
 import math
 
-from .scene import FONT, NUMBER_FONT, Scene, _cross_segments, _polyline, _segment_hits_box, text_width
+from typing import Any
+
+from .primitives import FONT, NUMBER_FONT, cross_segments, polyline, segment_hits_box, text_width
+
+Scene = Any     # a bondgraph.drawing.scene.Scene (measured, not built, here)
 
 __all__ = ["bonds_through_labels", "bond_crossings", "printed_size", "CM_PER_PT"]
 
@@ -62,17 +66,17 @@ def bonds_through_labels(scene: Scene, *, tolerance: float = 1.0) -> list[tuple[
     names = {lb.name for lb in scene.labels}
     for b in scene.bonds:
         own = {_end_node(b.tail, names), _end_node(b.head, names)}
-        pts = _polyline(b)
+        pts = polyline(b)
         segs = list(zip(pts, pts[1:]))
         for lb in scene.labels:
             if lb.name in own:
                 continue
-            if any(_segment_hits_box(p, q, lb.box, tolerance) for p, q in segs):
+            if any(segment_hits_box(p, q, lb.box, tolerance) for p, q in segs):
                 found.append((b.number, lb.name))
         for num, box in numbers.items():
             if num == b.number:
                 continue
-            if any(_segment_hits_box(p, q, box, tolerance) for p, q in segs):
+            if any(segment_hits_box(p, q, box, tolerance) for p, q in segs):
                 found.append((b.number, f"#{num}"))
     return found
 
@@ -88,14 +92,14 @@ def _end_node(end: str, names: set) -> str:
 def bond_crossings(scene: Scene) -> list[tuple[int, int]]:
     """Pairs of bond numbers whose drawn lines cross (bonds sharing a node excluded)."""
     names = {lb.name for lb in scene.labels}
-    shapes = [(b.number, {_end_node(b.tail, names), _end_node(b.head, names)}, _polyline(b))
+    shapes = [(b.number, {_end_node(b.tail, names), _end_node(b.head, names)}, polyline(b))
               for b in scene.bonds]
     out = []
     for i, (na, ea, pa) in enumerate(shapes):
         for nb, eb, pb in shapes[i + 1:]:
             if ea & eb:
                 continue
-            if any(_cross_segments(p, q, r, s) for p, q in zip(pa, pa[1:]) for r, s in zip(pb, pb[1:])):
+            if any(cross_segments(p, q, r, s) for p, q in zip(pa, pa[1:]) for r, s in zip(pb, pb[1:])):
                 out.append((na, nb))
     return out
 

@@ -34,21 +34,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from functools import lru_cache
 from typing import Optional
 
 from .layout import Box, grid_layout, overlapping_pairs
+from .primitives import (FONT, FONT_FAMILY, NOTE_FONT, NUMBER_FONT, TITLE_FONT,  # noqa: F401
+                         Point, bezier, polyline, segment_hits_box, text_width)
 from ..elements.protocol import drawing_role
 from .source import Diagram
 
 __all__ = ["Label", "BondShape", "Scene", "build_scene", "text_width", "label_font",
            "FONT", "NOTE_FONT", "NUMBER_FONT", "COLORS"]
-
-FONT = 14.0          # label font size, px
-NOTE_FONT = 9.0      # junction names, port names
-NUMBER_FONT = 10.0   # bond numbers
-TITLE_FONT = 12.0
-FONT_FAMILY = "DejaVu Sans"
 
 PAD = 3.0            # label box padding
 HGAP = 46.0          # free space between columns
@@ -69,25 +64,6 @@ COLORS = {
     "sub_fill": "#eef4fb",
     "title": "#777777",
 }
-
-
-@lru_cache(maxsize=4096)
-def text_width(text: str, size: float, bold: bool = False) -> float:
-    """Width in px of ``text`` in DejaVu Sans at ``size`` px (matplotlib's metrics).
-
-    Examples
-    --------
-    >>> text_width("I:La", 14.0) > text_width("1", 14.0) > 0
-    True
-    """
-    if not text:
-        return 0.0
-    from matplotlib.font_manager import FontProperties
-    from matplotlib.textpath import TextToPath
-
-    prop = FontProperties(family=FONT_FAMILY, size=size, weight="bold" if bold else "normal")
-    w, _, _ = TextToPath().get_text_width_height_descent(text, prop, ismath=False)
-    return float(w)
 
 
 def label_font(role: str) -> tuple[float, bool]:
@@ -115,7 +91,6 @@ def label_font(role: str) -> tuple[float, bool]:
     return FONT, role == "sub"
 
 
-Point = tuple[float, float]
 Segment = tuple[Point, Point]
 
 
@@ -417,7 +392,7 @@ def _extent(bonds) -> tuple[float, float, float, float]:
     for b in bonds:
         pts = [b.number_at]
         if b.control is not None:
-            pts += [_bezier(b.start, b.control, b.end, k / 20) for k in range(21)]
+            pts += [bezier(b.start, b.control, b.end, k / 20) for k in range(21)]
         for x, y in pts:
             xs.append(x)
             ys.append(y)
@@ -462,18 +437,11 @@ def _unit(dx: float, dy: float) -> Point:
     return dx / L, dy / L
 
 
-def _bezier(p0: Point, c: Optional[Point], p1: Point, t: float) -> Point:
-    if c is None:
-        return p0[0] + t * (p1[0] - p0[0]), p0[1] + t * (p1[1] - p0[1])
-    a, b, d = (1 - t) ** 2, 2 * t * (1 - t), t * t
-    return a * p0[0] + b * c[0] + d * p1[0], a * p0[1] + b * c[1] + d * p1[1]
-
-
 def _crossed(p0: Point, c: Optional[Point], p1: Point, boxes: list[Box]) -> int:
     """How many of ``boxes`` (grown by 2 px) the line (or curve) from p0 to p1 passes through."""
-    pts = [_bezier(p0, c, p1, k / 40) for k in range(41)] if c is not None else [p0, p1]
+    pts = [bezier(p0, c, p1, k / 40) for k in range(41)] if c is not None else [p0, p1]
     segs = list(zip(pts, pts[1:]))
-    return sum(any(_segment_hits_box(a, b, box, -2.0) for a, b in segs) for box in boxes)
+    return sum(any(segment_hits_box(a, b, box, -2.0) for a, b in segs) for box in boxes)
 
 
 #: bends tried for a bond that would cross a label: control point offsets across the bond,
@@ -542,8 +510,8 @@ def _number_position(text: str, start: Point, ctrl: Optional[Point], end: Point,
     h = NUMBER_FONT
     first = None
     for t in (0.5, 0.35, 0.65):
-        px, py = _bezier(start, ctrl, end, t)
-        q = _bezier(start, ctrl, end, t + 0.01)
+        px, py = bezier(start, ctrl, end, t)
+        q = bezier(start, ctrl, end, t + 0.01)
         ux, uy = _unit(q[0] - px, q[1] - py)
         n = (uy, -ux)
         # distance from the line to the centre of the number's box, across the bond
@@ -558,44 +526,6 @@ def _number_position(text: str, start: Point, ctrl: Optional[Point], end: Point,
     return first  # type: ignore[return-value]
 
 
-def _polyline(b: BondShape, n: int = 24) -> list[Point]:
-    """The drawn line of a bond: its two ends, or ``n`` pieces of its curve."""
-    if b.control is None:
-        return [b.start, b.end]
-    return [_bezier(b.start, b.control, b.end, k / n) for k in range(n + 1)]
-
-
-def _segment_hits_box(p: Point, q: Point, box: Box, shrink: float = 0.0) -> bool:
-    """Whether segment p-q passes through ``box`` shrunk by ``shrink`` on every side (Liang-Barsky)."""
-    x0, y0 = box[0] + shrink, box[1] + shrink
-    x1, y1 = box[0] + box[2] - shrink, box[1] + box[3] - shrink
-    if x0 >= x1 or y0 >= y1:
-        return False
-    dx, dy = q[0] - p[0], q[1] - p[1]
-    t0, t1 = 0.0, 1.0
-    for pk, qk in ((-dx, p[0] - x0), (dx, x1 - p[0]), (-dy, p[1] - y0), (dy, y1 - p[1])):
-        if pk == 0:
-            if qk < 0:
-                return False
-            continue
-        t = qk / pk
-        if pk < 0:
-            t0 = max(t0, t)
-        else:
-            t1 = min(t1, t)
-        if t0 > t1:
-            return False
-    return True
-
-
-def _cross_segments(p1: Point, p2: Point, q1: Point, q2: Point) -> bool:
-    """Whether segments p1-p2 and q1-q2 cross at a point inside both (touching is not crossing)."""
-    def orient(a: Point, b: Point, c: Point) -> int:
-        v = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
-        return 0 if abs(v) < 1e-9 else (1 if v > 0 else -1)
-    return (orient(p1, p2, q1) * orient(p1, p2, q2) < 0) and (orient(q1, q2, p1) * orient(q1, q2, p2) < 0)
-
-
 def _place_numbers(bonds: list[BondShape], avoid: list[Box]) -> list[BondShape]:
     """Bond numbers moved off every label, every other bond and the numbers placed before.
 
@@ -603,7 +533,7 @@ def _place_numbers(bonds: list[BondShape], avoid: list[Box]) -> list[BondShape]:
     opposite the barb first, then the barb's side, at the usual distance and
     farther; the first free one wins, else the number stays where it was.
     """
-    lines = [list(zip(pts, pts[1:])) for pts in (_polyline(b) for b in bonds)]
+    lines = [list(zip(pts, pts[1:])) for pts in (polyline(b) for b in bonds)]
     placed: list[Box] = []
     out = []
     for k, b in enumerate(bonds):
@@ -612,8 +542,8 @@ def _place_numbers(bonds: list[BondShape], avoid: list[Box]) -> list[BondShape]:
         chosen = None
         for extra in (0.0, 6.0, 12.0):
             for t in (0.5, 0.35, 0.65, 0.2, 0.8):
-                px, py = _bezier(b.start, b.control, b.end, t)
-                q = _bezier(b.start, b.control, b.end, min(t + 0.01, 1.0))
+                px, py = bezier(b.start, b.control, b.end, t)
+                q = bezier(b.start, b.control, b.end, min(t + 0.01, 1.0))
                 ux, uy = _unit(q[0] - px, q[1] - py)
                 n = (uy, -ux)
                 across = NUMBER_OFFSET + extra + abs(n[0]) * w / 2 + abs(n[1]) * h / 2
@@ -622,7 +552,7 @@ def _place_numbers(bonds: list[BondShape], avoid: list[Box]) -> list[BondShape]:
                     box = (mx - w / 2 - 1, my - h / 2 - 1, w + 2, h + 2)
                     if any(_hit(box, a) for a in avoid) or any(_hit(box, a) for a in placed):
                         continue
-                    if any(_segment_hits_box(p0, p1, box) for j, segs in enumerate(lines)
+                    if any(segment_hits_box(p0, p1, box) for j, segs in enumerate(lines)
                            for p0, p1 in segs if j != k):
                         continue
                     chosen = (mx, my)

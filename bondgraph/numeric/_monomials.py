@@ -255,7 +255,11 @@ def compile_entries(params: Sequence[sympy.Symbol], exprs: Sequence[sympy.Expr])
     """
     index: dict = {p: i for i, p in enumerate(params)}     # and the factors seen (see _monomial)
     seen: dict = {}
-    monos, mono_pos, terms, sum_pos, sum_starts = [], [], [], [], []
+    monos: list = []
+    terms: list = []
+    mono_pos: list[int] = []
+    sum_pos: list[int] = []
+    sum_starts: list[int] = []
     general: list = []
     gen_first: dict = {}
     gen_pos, gen_take = [], []
