@@ -1,0 +1,20 @@
+"""What the graph knows: structural analyses of a linear bond-graph model.
+
+Each analysis reads a derived :class:`bondgraph.Model` (its augmented bond
+graph and its linear form) and returns a frozen result that explains itself
+(``print(result)``): the causal paths, the elements involved, and the
+generic (almost-all-parameter-values) answer.
+
+* :func:`controllability`, :func:`observability` -- causal paths from the
+  inputs / to the outputs, the structural and generic rank of ``[A B]`` and
+  ``[A; C]``, the states lost and why (:mod:`bondgraph.structure.reach`);
+* :func:`zero_structure` -- relative degree from the shortest causal path,
+  number of finite zeros, the zeros, collocation (:mod:`bondgraph.structure.zeros`).
+"""
+
+from ._generic import StructureError
+from .reach import Reachability, controllability, observability
+from .zeros import ZeroStructure, zero_structure
+
+__all__ = ["StructureError", "Reachability", "controllability", "observability",
+           "ZeroStructure", "zero_structure"]
