@@ -14,7 +14,7 @@ generic (almost-all-parameter-values) answer.
 
 from ._generic import StructureError
 from .reach import Reachability, controllability, observability
-from .zeros import ZeroStructure, zero_structure
+from .zeros import ZeroStructure, collocated, zero_structure
 
 __all__ = ["StructureError", "Reachability", "controllability", "observability",
-           "ZeroStructure", "zero_structure"]
+           "ZeroStructure", "zero_structure", "collocated"]

@@ -33,6 +33,7 @@ Examples
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass
 from typing import Mapping, Optional
 
@@ -41,11 +42,12 @@ import numpy as np
 import sympy
 
 from ..equations import derive
+from ..errors import BondGraphWarning
 from ..model import Model
 from ._generic import LinearForm, StructureError, at_point, linear_form, random_points
 from ._paths import signal_digraph
 
-__all__ = ["ZeroStructure", "zero_structure", "S"]
+__all__ = ["ZeroStructure", "zero_structure", "collocated", "S"]
 
 #: the Laplace variable of the polynomials returned
 S = sympy.Symbol("s")
@@ -76,9 +78,6 @@ class ZeroStructure:
         ``max_states`` states).
     zeros : tuple of sympy.Expr or None
         The invariant zeros symbolically (None when not computed or when more than two).
-    collocated : bool or None
-        The output is proportional to the power-conjugate output of the input
-        (None when the input's element has no conjugate output).
     """
 
     model: str
@@ -91,7 +90,6 @@ class ZeroStructure:
     finite_zeros: Optional[int]
     numerator: Optional[sympy.Expr]
     zeros: Optional[tuple]
-    collocated: Optional[bool]
     _poles_matrix: sympy.Matrix = None  # type: ignore[assignment]
 
     def __hash__(self) -> int:
@@ -149,8 +147,6 @@ class ZeroStructure:
         lines.append(f"  finite invariant zeros: {self.finite_zeros}")
         if self.zeros is not None:
             lines.append(f"  zeros: {', '.join(str(z) for z in self.zeros) or '-'}")
-        if self.collocated is not None:
-            lines.append(f"  collocated (power-conjugate pair): {'yes' if self.collocated else 'no'}")
         return "\n".join(lines)
 
 
@@ -203,25 +199,52 @@ def _markov_degree(lf: LinearForm, j: int, i: int, points) -> Optional[int]:
     return best
 
 
-def _collocated(model: Model, input: str, i: int) -> Optional[bool]:
+def collocated(model: Model, input: str | None = None, output: str | None = None) -> bool:
+    """Whether ``output`` is proportional to the output power-conjugate to ``input``.
+
+    The element that introduces the input answers which signal is its
+    conjugate (:meth:`bondgraph.Element.collocated_output`: the flow into an
+    ``Se``'s bond, the effort of an ``Sf``); the model is derived again with
+    that signal as output and the two outputs are compared: their ratio must
+    be free of states and inputs.
+
+    Raises
+    ------
+    StructureError
+        Unknown channel names, or an input whose element has no conjugate output.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> from bondgraph.structure import collocated
+    >>> g = bg.BondGraph("msd")
+    >>> v = bg.One("v")
+    >>> g.add(bg.Se("F"), v, bg.I("m"), bg.C("k"))
+    >>> for t, h in [("F", v), (v, "m"), (v, "k")]: _ = g.connect(t, h)
+    >>> m = bg.derive(g, outputs={"v": bg.flow("m"), "x": bg.displacement("k")})
+    >>> collocated(m, "F", "v"), collocated(m, "F", "x")
+    (True, False)
+    """
+    lf = linear_form(model)
+    u = lf.inputs[_channel(lf.inputs, input, "input", model.name)]
+    i = _channel(lf.outputs, output, "output", model.name)
     aug = model.augmented
-    if aug is None:
-        return None
-    for el in aug.flat.elements:
-        if el.input_name() == input:
-            conj = el.collocated_output()
-            if conj is None:
-                return None
-            other = derive(aug, outputs={conj[0]: conj[1]})
-            if other.states != model.states:
-                return None
-            y, c = model.output_exprs[i], other.output_exprs[0]
-            if c == 0 or y == 0:
-                return False
-            ratio = sympy.cancel(y / c)
-            live = set(model.states) | set(model.inputs) | set(model.input_derivatives)
-            return not (ratio.free_symbols & live)
-    return None
+    owner = [el for el in aug.flat.elements if el.input_name() == u] if aug is not None else []
+    conj = owner[0].collocated_output() if owner else None
+    if conj is None:
+        raise StructureError(f"input {u!r} of model {model.name!r} has no power-conjugate "
+                             "output (its element does not answer collocated_output)")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", BondGraphWarning)   # already shown by derive
+        other = derive(aug, outputs={conj[0]: conj[1]})
+    live = set(model.states) | set(model.inputs) | set(model.input_derivatives)
+    y, c = model.output_exprs[i], other.output_exprs[0]
+    if other.states != model.states:      # a different state set: compare as functions
+        return False
+    if c == 0 or y == 0:
+        return False
+    ratio = sympy.cancel(y / c)
+    return not (ratio.free_symbols & live)
 
 
 def zero_structure(model: Model, input: str | None = None, output: str | None = None, *,
@@ -290,5 +313,4 @@ def zero_structure(model: Model, input: str | None = None, output: str | None = 
             zeros = tuple(sorted(sympy.solve(numerator, S), key=sympy.default_sort_key))
     return ZeroStructure(model=model.name, input=u, output=y, n=n, path=names,
                          structural_degree=sdeg, relative_degree=rdeg, finite_zeros=nz,
-                         numerator=numerator, zeros=zeros,
-                         collocated=_collocated(model, u, i), _poles_matrix=lf.A)
+                         numerator=numerator, zeros=zeros, _poles_matrix=lf.A)
