@@ -9,12 +9,16 @@ generic (almost-all-parameter-values) answer.
   inputs / to the outputs, the structural and generic rank of ``[A B]`` and
   ``[A; C]``, the states lost and why (:mod:`bondgraph.structure.reach`);
 * :func:`zero_structure` -- relative degree from the shortest causal path,
-  number of finite zeros, the zeros, collocation (:mod:`bondgraph.structure.zeros`).
+  number of finite zeros, the zeros; :func:`collocated` (:mod:`bondgraph.structure.zeros`);
+* :func:`identifiability` -- which parameters, and which of their products,
+  a transfer function determines (:mod:`bondgraph.structure.identifiable`).
 """
 
 from ._generic import StructureError
 from .reach import Reachability, controllability, observability
+from .identifiable import Identifiability, identifiability, tf_coefficients
 from .zeros import ZeroStructure, collocated, zero_structure
 
 __all__ = ["StructureError", "Reachability", "controllability", "observability",
-           "ZeroStructure", "zero_structure", "collocated"]
+           "ZeroStructure", "zero_structure", "collocated",
+           "Identifiability", "identifiability", "tf_coefficients"]

@@ -47,8 +47,8 @@ import networkx as nx
 import sympy
 
 from ..model import Model
-from ._generic import (LinearForm, StructureError, at_point, exact_rank, generic_rank,
-                       left_kernel_support, linear_form, random_points, term_rank)
+from ._generic import (LinearForm, StructureError, at_point, exact_rank, left_kernel_support,
+                       linear_form, random_points, term_rank)
 from ._paths import bond_path, path_names, signal_digraph, state_elements
 
 __all__ = ["Reachability", "controllability", "observability"]
@@ -191,19 +191,21 @@ def _pick(names: Sequence[str], wanted, what: str, model: str) -> tuple[int, ...
     return tuple(out)
 
 
-def _kalman_rank_and_lost(A: sympy.Matrix, B: sympy.Matrix, points) -> tuple[int, tuple[int, ...]]:
-    n = A.rows
-    best = (-1, ())
-    for pt in points:
-        Av, Bv = at_point(A, pt), at_point(B, pt)
+def _kalman_rank_and_lost(at: list, n: int) -> tuple[int, tuple[int, ...]]:
+    """Kalman rank and left-kernel support of ``[B AB ...]`` from ``[A B]`` at each point."""
+    best: tuple[int, tuple[int, ...]] = (-1, ())
+    for AB in at:
+        Av, Bv = AB[:, :n], AB[:, n:]
+        if not Bv.cols:
+            return 0, tuple(range(n))
         blocks, cur = [Bv], Bv
         for _ in range(max(n - 1, 0)):
             cur = Av * cur
             blocks.append(cur)
-        K = sympy.Matrix.hstack(*blocks) if B.cols else sympy.zeros(n, 0)
-        r = exact_rank(K) if K.cols else 0
+        K = sympy.Matrix.hstack(*blocks)
+        r = exact_rank(K)
         if r > best[0]:
-            best = (r, left_kernel_support(K, {}) if K.cols else tuple(range(n)))
+            best = (r, left_kernel_support(K, {}) if r < n else ())
     return best
 
 
@@ -273,10 +275,17 @@ def _analyse(model: Model, kind: str, pick, seed: int) -> Reachability:
             bond_paths.append(bond_path(aug, srcs, owner))
         else:
             bond_paths.append(())
-    grank = generic_rank(M.T if kind == "observability" else M, points)
-    best_pt = max(points, key=lambda pt: exact_rank(at_point(M, pt))) if points else {}
-    deficient = tuple(lf.states[i] for i in left_kernel_support(M, best_pt)) if grank < n else ()
-    kal, lost_idx = _kalman_rank_and_lost(A_k, B_k, points or [{}])
+    # each point substituted once: [A B] (observability: [A^T C^T], rows = states)
+    at = [at_point(sympy.Matrix.hstack(A_k, B_k), pt) for pt in points] or \
+        [sympy.Matrix.hstack(A_k, B_k)]
+    ncols_b0 = M.cols - n
+    ranks = [exact_rank(Mv[:, :n + ncols_b0]) for Mv in at]
+    best = max(range(len(at)), key=lambda q: ranks[q])
+    grank = ranks[best]
+    deficient = ()
+    if grank < n:
+        deficient = tuple(lf.states[i] for i in left_kernel_support(at[best][:, :n + ncols_b0], {}))
+    kal, lost_idx = _kalman_rank_and_lost(at, n)
     return Reachability(
         kind=kind, model=model.name, states=lf.states, elements=elements, signals=signals,
         paths=tuple(paths), bond_paths=tuple(bond_paths),
