@@ -16,9 +16,10 @@ generic (almost-all-parameter-values) answer.
 
 from ._generic import StructureError
 from .reach import Reachability, controllability, observability
-from .identifiable import Identifiability, identifiability, tf_coefficients
+from .identifiable import (Identifiability, IdentifiabilityWarning, identifiability,
+                           tf_coefficients)
 from .zeros import ZeroStructure, collocated, zero_structure
 
 __all__ = ["StructureError", "Reachability", "controllability", "observability",
            "ZeroStructure", "zero_structure", "collocated",
-           "Identifiability", "identifiability", "tf_coefficients"]
+           "Identifiability", "identifiability", "tf_coefficients", "IdentifiabilityWarning"]

@@ -35,6 +35,7 @@ Examples
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass
 from typing import Optional, Sequence
 
@@ -42,11 +43,13 @@ import sympy
 from sympy.polys.domains import QQ
 from sympy.polys.matrices import DomainMatrix
 
+from ..errors import BondGraphError, BondGraphWarning
 from ..model import Model
 from ._generic import StructureError, at_point, exact_rank, random_points
 from .zeros import S
 
-__all__ = ["Identifiability", "identifiability", "tf_coefficients"]
+__all__ = ["Identifiability", "identifiability", "tf_coefficients", "IdentifiabilityWarning",
+           "warn_unidentifiable"]
 
 
 @dataclass(frozen=True)
@@ -220,3 +223,46 @@ def identifiability(model: Model, input: Optional[str] = None, output: Optional[
         model=model.name, input=tf.input_name, output=tf.output_name, unknown=names,
         coefficients=coeffs, rank=rank, rank_at_points=ranks, identifiable=tuple(ident),
         unidentifiable=tuple(n for n in names if n not in ident), combinations=combos)
+
+
+class IdentifiabilityWarning(BondGraphWarning):
+    """Parameters asked for that the input-output data cannot determine."""
+
+
+def warn_unidentifiable(model: Model, free: Sequence[str], input: str, output: str, *,
+                        max_states: int = 8, stacklevel: int = 3) -> Optional[Identifiability]:
+    """Warn (:class:`IdentifiabilityWarning`) when ``free`` is not structurally identifiable.
+
+    Used by :func:`bondgraph.identification.greybox_fit` for one input and one
+    output.  Models with more than ``max_states`` states, and models the
+    analysis cannot handle, are skipped silently (returns None).
+
+    Examples
+    --------
+    >>> import warnings, bondgraph as bg
+    >>> g = bg.BondGraph("rc")
+    >>> j = bg.One("j")
+    >>> g.add(bg.Se("V"), j, bg.R("R"), bg.C("C"))
+    >>> for t, h in [("V", j), (j, "R"), (j, "C")]: _ = g.connect(t, h)
+    >>> m = bg.derive(g, outputs={"v": bg.effort("C")})
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     _ = warn_unidentifiable(m, ["R", "C"], "V", "v")
+    >>> print(w[0].message)
+    free parameters R, C are not all identifiable from v/V: its coefficients fix 1 combination(s) of 2 (rank of the Jacobian); not identifiable one by one: R, C; identifiable monomials: C*R. Fix some of them to known values.
+    """
+    if len(model.states) > max_states:
+        return None
+    try:
+        res = identifiability(model, input, output, unknown=list(free))
+    except BondGraphError:
+        return None
+    if res.rank < len(res.unknown):
+        warnings.warn(IdentifiabilityWarning(
+            f"free parameters {', '.join(res.unknown)} are not all identifiable from "
+            f"{res.output}/{res.input}: its coefficients fix {res.rank} combination(s) of "
+            f"{len(res.unknown)} (rank of the Jacobian); not identifiable one by one: "
+            f"{', '.join(res.unidentifiable)}; identifiable monomials: "
+            f"{', '.join(str(c) for c in res.combinations) or '-'}. Fix some of them to "
+            "known values."), stacklevel=stacklevel)
+    return res
