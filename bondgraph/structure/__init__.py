@@ -11,10 +11,13 @@ generic (almost-all-parameter-values) answer.
 * :func:`zero_structure` -- relative degree from the shortest causal path,
   number of finite zeros, the zeros; :func:`collocated` (:mod:`bondgraph.structure.zeros`);
 * :func:`identifiability` -- which parameters, and which of their products,
-  a transfer function determines (:mod:`bondgraph.structure.identifiable`).
+  a transfer function determines (:mod:`bondgraph.structure.identifiable`);
+* :func:`invert` -- the input for an output trajectory, with the relative
+  degree and minimum-phase conditions (:mod:`bondgraph.structure.inversion`).
 """
 
 from ._generic import StructureError
+from .inversion import Inversion, invert
 from .reach import Reachability, controllability, observability
 from .identifiable import (Identifiability, IdentifiabilityWarning, identifiability,
                            tf_coefficients)
@@ -22,4 +25,5 @@ from .zeros import ZeroStructure, collocated, zero_structure
 
 __all__ = ["StructureError", "Reachability", "controllability", "observability",
            "ZeroStructure", "zero_structure", "collocated",
-           "Identifiability", "identifiability", "tf_coefficients", "IdentifiabilityWarning"]
+           "Identifiability", "identifiability", "tf_coefficients", "IdentifiabilityWarning",
+           "Inversion", "invert"]
