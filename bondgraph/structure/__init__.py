@@ -13,11 +13,15 @@ generic (almost-all-parameter-values) answer.
 * :func:`identifiability` -- which parameters, and which of their products,
   a transfer function determines (:mod:`bondgraph.structure.identifiable`);
 * :func:`invert` -- the input for an output trajectory, with the relative
-  degree and minimum-phase conditions (:mod:`bondgraph.structure.inversion`).
+  degree and minimum-phase conditions (:mod:`bondgraph.structure.inversion`);
+* :func:`sensor_placement`, :func:`position_sweep` -- which modes a sensor on
+  a modal beam observes, the nodes, where a sensor turns a pair
+  non-minimum-phase (:mod:`bondgraph.structure.placement`).
 """
 
 from ._generic import StructureError
 from .inversion import Inversion, invert
+from .placement import PositionSweep, SensorPlacement, position_sweep, sensor_placement
 from .reach import Reachability, controllability, observability
 from .identifiable import (Identifiability, IdentifiabilityWarning, identifiability,
                            tf_coefficients)
@@ -26,4 +30,5 @@ from .zeros import ZeroStructure, collocated, zero_structure
 __all__ = ["StructureError", "Reachability", "controllability", "observability",
            "ZeroStructure", "zero_structure", "collocated",
            "Identifiability", "identifiability", "tf_coefficients", "IdentifiabilityWarning",
-           "Inversion", "invert"]
+           "Inversion", "invert",
+           "SensorPlacement", "sensor_placement", "PositionSweep", "position_sweep"]

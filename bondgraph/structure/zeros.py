@@ -39,6 +39,7 @@ from typing import Mapping, Optional
 
 import networkx as nx
 import numpy as np
+import scipy.linalg
 import sympy
 
 from ..equations import derive
@@ -91,18 +92,44 @@ class ZeroStructure:
     numerator: Optional[sympy.Expr]
     zeros: Optional[tuple]
     _poles_matrix: sympy.Matrix = None  # type: ignore[assignment]
+    _system: tuple = ()
 
     def __hash__(self) -> int:
         return hash((self.model, self.input, self.output, self.n, self.path))
 
     def zeros_at(self, values: Mapping[str, float]) -> np.ndarray:
-        """Numeric invariant zeros at parameter ``values`` (roots of :attr:`numerator`)."""
-        if self.numerator is None:
-            raise StructureError(f"zeros of {self.output}/{self.input} in model {self.model!r} "
-                                 "were not computed (more states than max_states)")
-        P = sympy.Poly(self.numerator.xreplace(_subs(self.numerator, values)), S)
-        coeffs = [complex(c) for c in P.all_coeffs()]
-        return np.roots(coeffs) if len(coeffs) > 1 else np.array([])
+        """Numeric invariant zeros at parameter ``values``.
+
+        The roots of :attr:`numerator` when it was computed; otherwise the
+        finite generalized eigenvalues of the Rosenbrock pencil
+        ``[[A, b], [-c, -d]] - s [[I, 0], [0, 0]]`` (:func:`scipy.linalg.eig`),
+        the ``finite_zeros`` of largest ``|beta/alpha|``.
+        """
+        if self.numerator is not None:
+            P = sympy.Poly(self.numerator.xreplace(_subs(self.numerator, values)), S)
+            coeffs = [complex(c) for c in P.all_coeffs()]
+            return np.roots(coeffs) if len(coeffs) > 1 else np.array([])
+        A, b, c, d = self._system
+        if any(M.has(S) for M in (b, d)):
+            raise StructureError(f"zeros of {self.output}/{self.input} in model {self.model!r}: "
+                                 "input derivatives appear; raise max_states to compute them")
+        if not self.finite_zeros:
+            return np.array([])
+        n = A.rows
+        top = sympy.Matrix.vstack(sympy.Matrix.hstack(A, b), sympy.Matrix.hstack(-c, -d))
+        M = np.array(top.xreplace(_subs(top, values)).evalf(), dtype=complex)
+        E = np.zeros_like(M)
+        E[:n, :n] = np.eye(n)
+        alpha, beta = scipy.linalg.eig(M, E, right=False, homogeneous_eigvals=True)
+        order = np.argsort(-np.abs(beta) / np.maximum(np.abs(alpha), 1e-300))
+        keep = order[:self.finite_zeros]
+        return alpha[keep] / beta[keep]
+
+    def rhp_zeros(self, values: Mapping[str, float], *, tol: float = 1e-9) -> np.ndarray:
+        """The zeros at ``values`` in the closed right half plane beyond ``tol`` (relative)."""
+        z = self.zeros_at(values)
+        scale = max(1.0, float(np.max(np.abs(z), initial=0.0)))
+        return z[z.real > tol * scale]
 
     def poles_at(self, values: Mapping[str, float]) -> np.ndarray:
         """Numeric eigenvalues of ``A`` at parameter ``values``."""
@@ -303,9 +330,9 @@ def zero_structure(model: Model, input: str | None = None, output: str | None = 
     rdeg = _markov_degree(lf, j, i, random_points(lf.parameters, 2, seed=seed)) if names else None
     nz = None if rdeg is None else n - rdeg
     numerator, zeros = None, None
+    Bcol = sum((B[:, j] * S**k for k, B in enumerate(lf.Bs)), sympy.zeros(n, 1))
+    Dval = sum((D[i, j] * S**k for k, D in enumerate(lf.Ds)), sympy.Integer(0))
     if n <= max_states and rdeg is not None:
-        Bcol = sum((B[:, j] * S**k for k, B in enumerate(lf.Bs)), sympy.zeros(n, 1))
-        Dval = sum((D[i, j] * S**k for k, D in enumerate(lf.Ds)), sympy.Integer(0))
         R = sympy.Matrix(sympy.BlockMatrix([[S * sympy.eye(n) - lf.A, -Bcol],
                                             [lf.C[i, :], sympy.Matrix([[Dval]])]]))
         numerator = sympy.factor(sympy.cancel(R.det(method="berkowitz")))
@@ -313,4 +340,5 @@ def zero_structure(model: Model, input: str | None = None, output: str | None = 
             zeros = tuple(sorted(sympy.solve(numerator, S), key=sympy.default_sort_key))
     return ZeroStructure(model=model.name, input=u, output=y, n=n, path=names,
                          structural_degree=sdeg, relative_degree=rdeg, finite_zeros=nz,
-                         numerator=numerator, zeros=zeros, _poles_matrix=lf.A)
+                         numerator=numerator, zeros=zeros, _poles_matrix=lf.A,
+                         _system=(lf.A, Bcol, lf.C[i, :], sympy.Matrix([[Dval]])))
