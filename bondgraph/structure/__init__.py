@@ -16,13 +16,16 @@ generic (almost-all-parameter-values) answer.
   degree and minimum-phase conditions (:mod:`bondgraph.structure.inversion`);
 * :func:`sensor_placement`, :func:`position_sweep` -- which modes a sensor on
   a modal beam observes, the nodes, where a sensor turns a pair
-  non-minimum-phase (:mod:`bondgraph.structure.placement`).
+  non-minimum-phase (:mod:`bondgraph.structure.placement`);
+* :func:`fault_signatures` -- analytical redundancy relations, the fault
+  signature matrix, residuals on data (:mod:`bondgraph.structure.faults`).
 """
 
 from ._generic import StructureError
 from .inversion import Inversion, invert
 from .placement import PositionSweep, SensorPlacement, position_sweep, sensor_placement
 from .reach import Reachability, controllability, observability
+from .faults import FaultDiagnosis, fault_signatures
 from .identifiable import (Identifiability, IdentifiabilityWarning, identifiability,
                            tf_coefficients)
 from .zeros import ZeroStructure, collocated, zero_structure
@@ -31,4 +34,5 @@ __all__ = ["StructureError", "Reachability", "controllability", "observability",
            "ZeroStructure", "zero_structure", "collocated",
            "Identifiability", "identifiability", "tf_coefficients", "IdentifiabilityWarning",
            "Inversion", "invert",
-           "SensorPlacement", "sensor_placement", "PositionSweep", "position_sweep"]
+           "SensorPlacement", "sensor_placement", "PositionSweep", "position_sweep",
+           "FaultDiagnosis", "fault_signatures"]
