@@ -182,13 +182,13 @@ def fault_signatures(model: Model) -> FaultDiagnosis:
     A, B, C, D = lf.A, lf.Bs[0], lf.C, lf.Ds[0]
     u_vec = sympy.Matrix([u_fun[u] for u in model.inputs])
     # equations: (kind, index, expression = 0 in x and known functions)
-    eqs = []
+    eqs: list[tuple[str, Optional[int], sympy.Expr]] = []
     for i, name in enumerate(lf.outputs):
         eqs.append((f"sensor {name}", None, y_fun[i] - (C[i, :] * sympy.Matrix(x))[0]
                     - ((D[i, :] * u_vec)[0] if u_vec.rows else 0)))
-    for j, s in enumerate(x):
-        rhs = (A[j, :] * sympy.Matrix(x))[0] + ((B[j, :] * u_vec)[0] if u_vec.rows else 0)
-        eqs.append((f"state {s.name}", j, rhs))
+    for row, s in enumerate(x):
+        rhs = (A[row, :] * sympy.Matrix(x))[0] + ((B[row, :] * u_vec)[0] if u_vec.rows else 0)
+        eqs.append((f"state {s.name}", row, rhs))
     known: dict = {}
     used = [False] * len(eqs)
 

@@ -32,7 +32,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Mapping, Optional, Sequence
+from typing import Any, Mapping, Optional, Sequence
 
 import numpy as np
 import scipy.linalg
@@ -74,7 +74,7 @@ class SensorPlacement:
     gains: tuple[tuple[float, ...], ...]
     nodes: tuple[tuple[float, ...], ...]
     tol: float
-    _beam: object = None
+    _beam: Any = None
 
     def gain(self, x: float) -> tuple[float, ...]:
         """The gain of every mode at ``x``."""

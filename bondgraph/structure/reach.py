@@ -253,7 +253,7 @@ def _analyse(model: Model, kind: str, pick, seed: int) -> Reachability:
         A_k, B_k = lf.A.T, C.T
         starts = [("y", s) for s in signals]
         H = G.reverse(copy=True)
-    paths = []
+    paths: list[tuple[str, ...]] = []
     if starts:
         H = H.copy()
         H.add_edges_from(("start", s) for s in starts)
@@ -267,7 +267,7 @@ def _analyse(model: Model, kind: str, pick, seed: int) -> Reachability:
             continue
         names = path_names(p[1:])
         paths.append(names if kind == "controllability" else names[::-1])
-    bond_paths = []
+    bond_paths: list[tuple[str, ...]] = []
     aug = model.augmented
     for s, owner in zip(lf.states, (owners[s] for s in lf.states)):
         if kind == "controllability" and aug is not None and owner is not None:
@@ -282,7 +282,7 @@ def _analyse(model: Model, kind: str, pick, seed: int) -> Reachability:
     ranks = [exact_rank(Mv[:, :n + ncols_b0]) for Mv in at]
     best = max(range(len(at)), key=lambda q: ranks[q])
     grank = ranks[best]
-    deficient = ()
+    deficient: tuple[str, ...] = ()
     if grank < n:
         deficient = tuple(lf.states[i] for i in left_kernel_support(at[best][:, :n + ncols_b0], {}))
     kal, lost_idx = _kalman_rank_and_lost(at, n)
