@@ -175,7 +175,8 @@ def invert(model: Model, trajectory: sympy.Expr, *, input: Optional[str] = None,
         an expression of ``t``, zero dynamics without ``values``, or a
         non-minimum-phase pair (zeros named) without ``minimum_phase_part``.
     """
-    traj = sympy.sympify(trajectory) if isinstance(trajectory, (int, float)) else trajectory
+    traj = sympy.sympify(trajectory, strict=True) if isinstance(trajectory, (int, float)) \
+        else trajectory
     if not isinstance(traj, sympy.Expr):
         raise StructureError(f"trajectory: expected a sympy expression of bg.t, got "
                              f"{type(trajectory).__name__}")
