@@ -25,6 +25,7 @@ from sympy.polys.domains import QQ
 from sympy.polys.matrices import DomainMatrix
 
 from ..errors import BondGraphError
+from ..linear import derivative_form
 from ..model import Model
 
 __all__ = ["LinearForm", "linear_form", "random_points", "at_point", "exact_rank",
@@ -55,7 +56,7 @@ def linear_form(model: Model) -> LinearForm:
         raise StructureError(f"expected a bondgraph.Model (from bg.derive), got "
                              f"{type(model).__name__}")
     try:
-        A, Bs, C, Ds = model._derivative_form()
+        A, Bs, C, Ds = derivative_form(model)
     except BondGraphError as err:
         raise StructureError(f"model {model.name!r}: structural analysis needs a linear model "
                              f"({err})") from err

@@ -46,9 +46,9 @@ from typing import Mapping, Optional
 import numpy as np
 import sympy
 
+from .._support.sympify import parameter_symbols
 from ..model import Model
 from ..signals import t as T
-from ..values import parameter_symbols
 from ._generic import StructureError, linear_form
 
 __all__ = ["FaultDiagnosis", "fault_signatures"]

@@ -42,9 +42,8 @@ import numpy as np
 import scipy.linalg
 import sympy
 
-from ..equations import derive
 from ..errors import BondGraphWarning
-from ..model import Model
+from ..model import Model, derive
 from ._generic import LinearForm, StructureError, at_point, linear_form, random_points
 from ._paths import signal_digraph
 
