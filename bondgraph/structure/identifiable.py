@@ -229,7 +229,7 @@ class IdentifiabilityWarning(BondGraphWarning):
     """Parameters asked for that the input-output data cannot determine."""
 
 
-def warn_unidentifiable(model: Model, free: Sequence[str], input: str, output: str, *,
+def warn_unidentifiable(model: object, free: Sequence[str], input: str, output: str, *,
                         max_states: int = 8, stacklevel: int = 3) -> Optional[Identifiability]:
     """Warn (:class:`IdentifiabilityWarning`) when ``free`` is not structurally identifiable.
 
@@ -251,7 +251,7 @@ def warn_unidentifiable(model: Model, free: Sequence[str], input: str, output: s
     >>> print(w[0].message)
     free parameters R, C are not all identifiable from v/V: its coefficients fix 1 combination(s) of 2 (rank of the Jacobian); not identifiable one by one: R, C; identifiable monomials: C*R. Fix some of them to known values.
     """
-    if len(model.states) > max_states:
+    if not isinstance(model, Model) or len(model.states) > max_states:
         return None
     try:
         res = identifiability(model, input, output, unknown=list(free))
