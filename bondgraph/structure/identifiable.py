@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import math
 import warnings
+import weakref
 from dataclasses import dataclass
 from typing import Optional, Sequence
 
@@ -225,6 +226,11 @@ def identifiability(model: Model, input: Optional[str] = None, output: Optional[
         unidentifiable=tuple(n for n in names if n not in ident), combinations=combos)
 
 
+#: results of warn_unidentifiable per (model, free, input, output): a fit repeated on one
+#: model (a Monte Carlo study) analyses it once; the weak reference tells a reused id apart
+_MEMO: dict = {}
+
+
 class IdentifiabilityWarning(BondGraphWarning):
     """Parameters asked for that the input-output data cannot determine."""
 
@@ -253,9 +259,19 @@ def warn_unidentifiable(model: object, free: Sequence[str], input: str, output: 
     """
     if not isinstance(model, Model) or len(model.states) > max_states:
         return None
-    try:
-        res = identifiability(model, input, output, unknown=list(free))
-    except BondGraphError:
+    key = (id(model), tuple(free), input, output)
+    hit = _MEMO.get(key)
+    if hit is not None and hit[0]() is model:
+        res = hit[1]
+    else:
+        try:
+            res = identifiability(model, input, output, unknown=list(free))
+        except BondGraphError:
+            res = None
+        if len(_MEMO) >= 64:
+            _MEMO.clear()
+        _MEMO[key] = (weakref.ref(model), res)
+    if res is None:
         return None
     if res.rank < len(res.unknown):
         warnings.warn(IdentifiabilityWarning(
