@@ -61,6 +61,8 @@ def main(argv=None) -> int:
             print(f"seed {seed}: DISAGREE {c.detail}", flush=True)
         elif c.status == "refused":
             print(f"seed {seed}: refused {c.detail[:120]}", flush=True)
+        else:       # one line per graph: a stopped run can still be counted from its log
+            print(f"seed {seed}: {c.status}", flush=True)
     dt = time.perf_counter() - t0
     print(f"graphs {args.start}..{args.start + args.n - 1}: {dict(counts)} in {dt:.0f} s "
           f"({dt / max(args.n, 1):.2f} s per graph)")
