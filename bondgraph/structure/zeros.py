@@ -331,11 +331,13 @@ def zero_structure(model: Model, input: str | None = None, output: str | None = 
     numerator, zeros = None, None
     Bcol = sum((B[:, j] * S**k for k, B in enumerate(lf.Bs)), sympy.zeros(n, 1))
     Dval = sum((D[i, j] * S**k for k, D in enumerate(lf.Ds)), sympy.Integer(0))
-    if n <= max_states and rdeg is not None:
+    if nz == 0:
+        zeros = ()      # no finite zero: nothing to solve (the numerator is a constant)
+    if 0 < n <= max_states and rdeg is not None:
         R = sympy.Matrix(sympy.BlockMatrix([[S * sympy.eye(n) - lf.A, -Bcol],
                                             [lf.C[i, :], sympy.Matrix([[Dval]])]]))
         numerator = sympy.factor(sympy.cancel(R.det(method="berkowitz")))
-        if nz is not None and nz <= 2:
+        if nz is not None and 0 < nz <= 2:
             zeros = tuple(sorted(sympy.solve(numerator, S), key=sympy.default_sort_key))
     return ZeroStructure(model=model.name, input=u, output=y, n=n, path=names,
                          structural_degree=sdeg, relative_degree=rdeg, finite_zeros=nz,
