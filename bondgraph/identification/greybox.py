@@ -266,6 +266,10 @@ def greybox_fit(model: Model | NumericModel, data: TimeData | FrequencyData | FR
 
     ins, _ = _channel_indices(input, nm.input_names, "input")
     outs, _ = _channel_indices(output, nm.output_names, "output")
+    if len(ins) == 1 and len(outs) == 1:      # structural identifiability (issue 26)
+        from ..structure.identifiable import warn_unidentifiable
+
+        warn_unidentifiable(nm.model, free, nm.input_names[ins[0]], nm.output_names[outs[0]])
     x0_arr: NDArray | None = None
     sqrt_w: NDArray | None = None
     if tdata is not None:

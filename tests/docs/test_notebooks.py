@@ -9,7 +9,8 @@ from pathlib import Path
 import pytest
 
 NOTEBOOKS = Path(__file__).resolve().parents[2] / "notebooks"
-NAMES = ("01_srv02_hub", "02_flexcam", "03_appendages", "04_identification", "05_control")
+NAMES = ("01_srv02_hub", "02_flexcam", "03_appendages", "04_identification", "05_control",
+         "06_structure")
 
 
 def _load(name):

@@ -1,0 +1,355 @@
+"""Structural controllability and observability of a linear bond-graph model.
+
+For each state (each storage element in integral causality, and each
+integrator added for an output) the analysis asks two questions, after
+Sueur and Dauphin-Tanguy (1991) and Lin (1974):
+
+1. *Causal paths*: is there a causal path from an input to the state
+   (controllability) or from the state to an output (observability)?  A state
+   no path reaches is uncontrollable (unobservable) for every parameter value.
+2. *Rank*: the generic rank of ``[A B]`` (of ``[A; C]``).  Its structural
+   value is the size of a maximum matching in the bipartite graph of the
+   nonzero entries (:func:`networkx.bipartite.hopcroft_karp_matching`), the
+   count of storage elements that can be put in derivative causality with the
+   sources dualised; the generic value is the exact rank at random rational
+   parameter points.  The two differ only when the junction structure makes
+   causal-path gains cancel; the result reports both.  The states in the
+   support of the left kernel are the ones involved in a deficiency, with the
+   junctions they share.
+
+Finally the generic rank of the Kalman matrix ``[B AB ... A^(n-1)B]`` tells
+whether the model is controllable for almost all parameter values; a state
+outside its range for every point is named as uncontrollable with the reason
+(no causal path, a rank deficiency of ``[A B]``, or a dependence between
+parameters).
+
+Examples
+--------
+>>> import bondgraph as bg
+>>> from bondgraph.structure import controllability
+>>> g = bg.BondGraph("series_c")
+>>> j = bg.One("j")
+>>> g.add(bg.Sf("i"), j, bg.C("C1"), bg.C("C2"), bg.R("R"))
+>>> for t, h in [("i", j), (j, "C1"), (j, "C2"), (j, "R")]: _ = g.connect(t, h)
+>>> res = controllability(bg.derive(g))
+>>> res.generic_rank, res.controllable, res.lost
+(1, False, ('q_C1', 'q_C2'))
+>>> print(res.reason("q_C2"))
+q_C2 (C:C2): reached by a causal path (i -> q_C2) but [A B] has rank 1 < 2: q_C1, q_C2 share the junction j
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional, Sequence
+
+import networkx as nx
+import sympy
+
+from ..model import Model
+from ._generic import (LinearForm, StructureError, at_point, exact_rank, left_kernel_support,
+                       linear_form, random_points, term_rank)
+from ._paths import bond_path, path_names, signal_digraph, state_elements
+
+__all__ = ["Reachability", "controllability", "observability"]
+
+
+@dataclass(frozen=True)
+class Reachability:
+    """Structural controllability or observability of a model (immutable).
+
+    Attributes
+    ----------
+    kind : {"controllability", "observability"}
+    model : str
+    states : tuple of str
+    elements : tuple of (str or None)
+        The storage element of each state (None: an integrator for an output).
+    signals : tuple of str
+        The inputs (controllability) or outputs (observability) considered.
+    paths : tuple of tuple of str
+        Per state, a shortest causal path in the signal digraph (input ->
+        states -> state, or state -> states -> output); ``()`` when none.
+    bond_paths : tuple of tuple of str
+        Per state (controllability only), the elements of a shortest causal path
+        in the augmented bond graph from a source to the storage element.
+    structural_rank : int
+        Maximum-matching rank of ``[A B]`` (``[A; C]``).
+    generic_rank : int
+        Exact rank of ``[A B]`` (``[A; C]``) for almost all parameter values.
+    deficient : tuple of str
+        States involved in a rank deficiency of ``[A B]`` (``[A; C]``).
+    shared : tuple of str
+        Elements adjacent to two or more of the ``deficient`` storage elements
+        (the junctions where the deficiency sits).
+    kalman_rank : int
+        Generic rank of the controllability (observability) matrix.
+    lost : tuple of str
+        States on which an uncontrollable (unobservable) direction has a
+        component, for almost all parameter values.
+    """
+
+    kind: str
+    model: str
+    states: tuple[str, ...]
+    elements: tuple[Optional[str], ...]
+    signals: tuple[str, ...]
+    paths: tuple[tuple[str, ...], ...]
+    bond_paths: tuple[tuple[str, ...], ...]
+    structural_rank: int
+    generic_rank: int
+    deficient: tuple[str, ...]
+    shared: tuple[str, ...]
+    kalman_rank: int
+    lost: tuple[str, ...]
+
+    @property
+    def n(self) -> int:
+        return len(self.states)
+
+    @property
+    def unreached(self) -> tuple[str, ...]:
+        """States that no causal path connects to the signals."""
+        return tuple(s for s, p in zip(self.states, self.paths) if not p)
+
+    @property
+    def structural(self) -> bool:
+        """Structurally controllable (observable): every state reached, full generic rank."""
+        return not self.unreached and self.generic_rank == self.n
+
+    @property
+    def controllable(self) -> bool:
+        """Full generic Kalman rank (``observable`` is the same for observability)."""
+        return self.kalman_rank == self.n
+
+    observable = controllable
+
+    def path(self, state: str) -> tuple[str, ...]:
+        """The causal path of ``state`` (see :attr:`paths`)."""
+        return self.paths[self._index(state)]
+
+    def _index(self, state: str) -> int:
+        if state not in self.states:
+            raise StructureError(f"model {self.model!r} has no state {state!r}; "
+                                 f"states: {', '.join(self.states)}")
+        return self.states.index(state)
+
+    def _label(self, state: str) -> str:
+        el = self.elements[self._index(state)]
+        return f"{state} ({el})" if el else f"{state} (integrator)"
+
+    def reason(self, state: str) -> str:
+        """Why ``state`` is, or is not, controllable (observable)."""
+        i = self._index(state)
+        word = "from the inputs" if self.kind == "controllability" else "to the outputs"
+        label = self._label(state)
+        mat = "[A B]" if self.kind == "controllability" else "[A; C]"
+        if not self.paths[i]:
+            return f"{label}: no causal path {word} ({', '.join(self.signals) or 'none'})"
+        via = f"reached by a causal path ({' -> '.join(self.paths[i])})"
+        if state in self.deficient:
+            where = f": {', '.join(self.deficient)} share {self._shared_text()}"
+            return f"{label}: {via} but {mat} has rank {self.generic_rank} < {self.n}{where}"
+        if state in self.lost:
+            word2 = "controllability" if self.kind == "controllability" else "observability"
+            return (f"{label}: {via} and {mat} has full rank, but the {word2} matrix has rank "
+                    f"{self.kalman_rank} < {self.n} for every parameter value (the parameters "
+                    "of the elements along the paths are not independent)")
+        return f"{label}: {via}"
+
+    def _shared_text(self) -> str:
+        if not self.shared:
+            return "no single junction"
+        return ("the junction " if len(self.shared) == 1 else "the junctions ") + \
+            ", ".join(self.shared)
+
+    def __str__(self) -> str:
+        sig = "from " if self.kind == "controllability" else "to "
+        lines = [f"structural {self.kind} of {self.model!r} {sig}{', '.join(self.signals)}"]
+        lines += ["  " + self.reason(s) for s in self.states]
+        mat = "[A B]" if self.kind == "controllability" else "[A; C]"
+        lines.append(f"  rank {mat} = {self.generic_rank} of {self.n} (by matching: "
+                     f"{self.structural_rank})")
+        verdict = "yes" if self.controllable else "no"
+        word = "controllable" if self.kind == "controllability" else "observable"
+        lines.append(f"  {word} for almost all parameter values: {verdict} "
+                     f"(Kalman rank {self.kalman_rank})")
+        return "\n".join(lines)
+
+
+def _pick(names: Sequence[str], wanted, what: str, model: str) -> tuple[int, ...]:
+    if wanted is None:
+        return tuple(range(len(names)))
+    if isinstance(wanted, str):
+        wanted = (wanted,)
+    out = []
+    for w in wanted:
+        if w not in names:
+            raise StructureError(f"model {model!r} has no {what} {w!r}; {what}s: "
+                                 f"{', '.join(names) or 'none'}")
+        out.append(names.index(w))
+    return tuple(out)
+
+
+def _kalman_rank_and_lost(at: list, n: int) -> tuple[int, tuple[int, ...]]:
+    """Kalman rank and left-kernel support of ``[B AB ...]`` from ``[A B]`` at each point."""
+    best: tuple[int, tuple[int, ...]] = (-1, ())
+    for AB in at:
+        Av, Bv = AB[:, :n], AB[:, n:]
+        if not Bv.cols:
+            return 0, tuple(range(n))
+        blocks, cur = [Bv], Bv
+        for _ in range(max(n - 1, 0)):
+            cur = Av * cur
+            blocks.append(cur)
+        K = sympy.Matrix.hstack(*blocks)
+        r = exact_rank(K)
+        if r > best[0]:
+            best = (r, left_kernel_support(K, {}) if r < n else ())
+    return best
+
+
+def _shared(model: Model, elements: Sequence[Optional[str]]) -> tuple[str, ...]:
+    aug = model.augmented
+    els = [e for e in elements if e]
+    if aug is None or len(els) < 2:
+        return ()
+    flat = aug.flat
+    count: dict[str, int] = {}
+    for name in set(els):
+        nb = set()
+        for k in flat.incidence[name]:
+            b = flat.bonds[k]
+            nb.add(b.head if b.tail == name else b.tail)
+        for other in nb:
+            count[other] = count.get(other, 0) + 1
+    return tuple(sorted(n for n, c in count.items() if c >= 2))
+
+
+def _analyse(model: Model, kind: str, pick, seed: int) -> Reachability:
+    lf: LinearForm = linear_form(model)
+    n = len(lf.states)
+    owners = state_elements(model)
+    elements = tuple(owners[s] for s in lf.states)
+    labels = {el.name: el.label() for el in model.augmented.flat.elements} \
+        if model.augmented is not None else {}
+    elements = tuple(labels.get(e, e) if e else None for e in elements)
+    G = signal_digraph(lf)
+    points = random_points(lf.parameters, 2, seed=seed)
+    if kind == "controllability":
+        idx = _pick(lf.inputs, pick, "input", model.name)
+        signals = tuple(lf.inputs[j] for j in idx)
+        B0 = lf.Bs[0][:, list(idx)] if idx else sympy.zeros(n, 0)
+        Ball = sympy.Matrix.hstack(*[B[:, list(idx)] for B in lf.Bs]) if idx else B0
+        M = sympy.Matrix.hstack(lf.A, B0)
+        A_k, B_k = lf.A, Ball
+        starts = [("u", s) for s in signals]
+        H = G
+    else:
+        idx = _pick(lf.outputs, pick, "output", model.name)
+        signals = tuple(lf.outputs[j] for j in idx)
+        C = lf.C[list(idx), :] if idx else sympy.zeros(0, n)
+        M = sympy.Matrix.vstack(lf.A, C).T      # rows: states
+        A_k, B_k = lf.A.T, C.T
+        starts = [("y", s) for s in signals]
+        H = G.reverse(copy=True)
+    paths: list[tuple[str, ...]] = []
+    if starts:
+        H = H.copy()
+        H.add_edges_from(("start", s) for s in starts)
+        found = nx.single_source_shortest_path(H, "start")
+    else:
+        found = {}
+    for s in lf.states:
+        p = found.get(("x", s))
+        if p is None:
+            paths.append(())
+            continue
+        names = path_names(p[1:])
+        paths.append(names if kind == "controllability" else names[::-1])
+    bond_paths: list[tuple[str, ...]] = []
+    aug = model.augmented
+    for s, owner in zip(lf.states, (owners[s] for s in lf.states)):
+        if kind == "controllability" and aug is not None and owner is not None:
+            srcs = tuple(el.name for el in aug.flat.elements if el.input_name() in signals)
+            bond_paths.append(bond_path(aug, srcs, owner))
+        else:
+            bond_paths.append(())
+    # each point substituted once: [A B] (observability: [A^T C^T], rows = states)
+    at = [at_point(sympy.Matrix.hstack(A_k, B_k), pt) for pt in points] or \
+        [sympy.Matrix.hstack(A_k, B_k)]
+    ncols_b0 = M.cols - n
+    ranks = [exact_rank(Mv[:, :n + ncols_b0]) for Mv in at]
+    best = max(range(len(at)), key=lambda q: ranks[q])
+    grank = ranks[best]
+    deficient: tuple[str, ...] = ()
+    if grank < n:
+        deficient = tuple(lf.states[i] for i in left_kernel_support(at[best][:, :n + ncols_b0], {}))
+    kal, lost_idx = _kalman_rank_and_lost(at, n)
+    return Reachability(
+        kind=kind, model=model.name, states=lf.states, elements=elements, signals=signals,
+        paths=tuple(paths), bond_paths=tuple(bond_paths),
+        structural_rank=term_rank(M), generic_rank=grank, deficient=deficient,
+        shared=_shared(model, [owners[s] for s in deficient]),
+        kalman_rank=kal, lost=tuple(lf.states[i] for i in lost_idx) if kal < n else ())
+
+
+def controllability(model: Model, *, inputs: Sequence[str] | str | None = None,
+                    seed: int = 0) -> Reachability:
+    """Structural controllability of each state from the inputs.
+
+    Parameters
+    ----------
+    model : Model
+        A linear model (:func:`bondgraph.derive`).
+    inputs : str or sequence of str, optional
+        The inputs to use (default all).
+    seed : int
+        Seed of the random rational points of the generic ranks.
+
+    Returns
+    -------
+    Reachability
+
+    Raises
+    ------
+    StructureError
+        A nonlinear model, or an unknown input name.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> from bondgraph.structure import controllability
+    >>> g = bg.BondGraph("rc_branch")       # C2 sits in a branch no source reaches
+    >>> a, b = bg.Zero("a"), bg.One("b")
+    >>> g.add(bg.Sf("i"), a, bg.R("R1"), bg.C("C1"), b, bg.C("C2"), bg.R("R2"))
+    >>> for t, h in [("i", a), (a, "R1"), (a, "C1"), (b, "C2"), (b, "R2")]: _ = g.connect(t, h)
+    >>> res = controllability(bg.derive(g))
+    >>> res.structural, res.unreached, res.bond_paths[0]
+    (False, ('q_C2',), ('i', 'a', 'C1'))
+    >>> print(res.reason("q_C2"))
+    q_C2 (C:C2): no causal path from the inputs (i)
+    """
+    return _analyse(model, "controllability", inputs, seed)
+
+
+def observability(model: Model, *, outputs: Sequence[str] | str | None = None,
+                  seed: int = 0) -> Reachability:
+    """Structural observability of each state from the outputs.
+
+    The dual of :func:`controllability`: causal paths from each state to an
+    output, the generic rank of ``[A; C]`` and of the observability matrix.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> from bondgraph.structure import observability
+    >>> g = bg.BondGraph("two_rc")
+    >>> a = bg.Zero("a")
+    >>> g.add(bg.Sf("i"), a, bg.C("C1"), bg.R("R1"))
+    >>> for t, h in [("i", a), (a, "C1"), (a, "R1")]: _ = g.connect(t, h)
+    >>> res = observability(bg.derive(g, outputs={"v": bg.effort("a")}))
+    >>> res.structural, res.path("q_C1")
+    (True, ('q_C1', 'v'))
+    """
+    return _analyse(model, "observability", outputs, seed)
