@@ -39,6 +39,7 @@ from ._field_values import check_fields_at
 from ._stiffness import check_stiffness
 from .errors import NumericError, SimulationError
 from .resolve import ParameterValues, resolve_parameters
+from .implicit import ImplicitSolver
 from .plant import _CompiledModel, control_labels
 
 if TYPE_CHECKING:  # imported lazily at run time
@@ -122,9 +123,10 @@ class NumericDynamics(_CompiledModel):
         (tt,) = placeholders("t", 1)
         xs = placeholders("x", len(model.states))
         us = placeholders("u", len(model.inputs))
-        ps = placeholders("p", len(self._params))
+        ps = placeholders("p", len(self._params) + len(model.algebraic))
         swap = {T_SYM: tt, **dict(zip(model.states, xs)), **dict(zip(model.inputs, us)),
-                **dict(zip(self._params, ps))}
+                **dict(zip((*self._params, *model.algebraic), ps))}
+        self._implicit = ImplicitSolver(model, self._params) if model.algebraic else None
         args = [tt, xs, us, ps]
         exprs = guard_user_functions((*model.rhs, *model.output_exprs),
                                      lambda func: _law_owners(model, func))
@@ -154,6 +156,7 @@ class NumericDynamics(_CompiledModel):
             raised or returned something other than a real number.
         """
         try:
+            p = p if self._implicit is None else self._implicit.extend(t, x, u, p)   # p + z
             out = self._f(t, x, u, p)
         except CallbackFailure as fail:
             raise _callback_error(fail, self.name, t) from fail.__cause__
@@ -172,7 +175,10 @@ class NumericDynamics(_CompiledModel):
             than a real number (the message gives the time).
         """
         size = np.shape(t)
+        if self._implicit is not None and size:     # z differs per sample: one at a time
+            return self._implicit.per_sample(self.outputs, t, x, u, p, len(self.output_names))
         try:
+            p = p if self._implicit is None else self._implicit.extend(t, x, u, p)
             values = self._g(t, x, u, p)
         except CallbackFailure as fail:
             if not size:
