@@ -48,7 +48,7 @@ from ._compile import CompiledFunction, guard_user_functions, placeholders
 from .errors import SimulationError
 from .statespace import NumericStateSpace
 
-__all__ = ["ImplicitSolver", "implicit_plant", "NEWTON_ITERATIONS"]
+__all__ = ["ImplicitSolver", "with_algebraic", "implicit_plant", "NEWTON_ITERATIONS"]
 
 #: Newton iterations before the :func:`scipy.optimize.root` fallback
 NEWTON_ITERATIONS = 40
@@ -92,13 +92,6 @@ class ImplicitSolver:
     def extend(self, t: float, x, u, p) -> np.ndarray:
         """``p`` followed by ``z`` solved at ``(t, x, u)``: what the compiled ``f`` and ``h`` take."""
         return np.concatenate([p, self.solve(t, x, u, p)])
-
-    @staticmethod
-    def per_sample(outputs, t, x, u, p, n: int) -> np.ndarray:
-        """``outputs(t_k, x_k, u_k, p)`` sample by sample (``z`` differs per sample), shape (n, N)."""
-        x, u, tt = np.asarray(x, dtype=float), np.asarray(u, dtype=float), np.asarray(t, dtype=float)
-        return np.array([outputs(tk, x[:, k], u[:, k], p) for k, tk in enumerate(tt)],
-                        dtype=float).T.reshape((n,) + tt.shape)
 
     def solve(self, t: float, x, u, p, guess: Optional[np.ndarray] = None) -> np.ndarray:
         """``z`` solving ``g = 0`` at ``(t, x, u)``; remembered as the next start.
@@ -185,6 +178,30 @@ class ImplicitSolver:
                 polished = self._newton(t, x, u, p, z.copy()) if np.any(z) else None
                 return polished if polished is not None else z
         return None
+
+
+class _WithZ:
+    """A compiled ``fn(t, x, u, p + z)`` called as ``fn(t, x, u, p)``: ``z`` solved first
+    (sample by sample when ``t`` is an array: ``z`` differs per sample)."""
+
+    def __init__(self, solver: ImplicitSolver, fn) -> None:
+        self.solver, self.fn = solver, fn
+
+    def __call__(self, t, x, u, p):
+        if np.shape(t):
+            x, u = np.asarray(x, dtype=float), np.asarray(u, dtype=float)
+            return np.array([np.asarray(self(tk, x[:, k], u[:, k], p), dtype=float).ravel()
+                             for k, tk in enumerate(np.asarray(t, dtype=float))]).T
+        return self.fn(t, x, u, self.solver.extend(t, x, u, p))
+
+
+def with_algebraic(model: StateEquations, params: tuple, f, g) -> tuple:
+    """``(f, g)`` unchanged for an explicit model; for an implicit one, each wrapped to solve
+    ``0 = g(x, z, u)`` for ``z`` (one shared, warm-started :class:`ImplicitSolver`) first."""
+    if not model.algebraic:
+        return f, g
+    solver = ImplicitSolver(model, params)
+    return _WithZ(solver, f), _WithZ(solver, g)
 
 
 def implicit_plant(model: StateEquations, point: Any, inputs: Optional[Mapping],

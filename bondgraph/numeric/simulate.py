@@ -39,7 +39,7 @@ from ._field_values import check_fields_at
 from ._stiffness import check_stiffness
 from .errors import NumericError, SimulationError
 from .resolve import ParameterValues, resolve_parameters
-from .implicit import ImplicitSolver
+from .implicit import with_algebraic
 from .plant import _CompiledModel, control_labels
 
 if TYPE_CHECKING:  # imported lazily at run time
@@ -126,13 +126,12 @@ class NumericDynamics(_CompiledModel):
         ps = placeholders("p", len(self._params) + len(model.algebraic))
         swap = {T_SYM: tt, **dict(zip(model.states, xs)), **dict(zip(model.inputs, us)),
                 **dict(zip((*self._params, *model.algebraic), ps))}
-        self._implicit = ImplicitSolver(model, self._params) if model.algebraic else None
         args = [tt, xs, us, ps]
         exprs = guard_user_functions((*model.rhs, *model.output_exprs),
                                      lambda func: _law_owners(model, func))
         n = len(model.rhs)
-        self._f = CompiledFunction(args, [ex.xreplace(swap) for ex in exprs[:n]])
-        self._g = CompiledFunction(args, [ex.xreplace(swap) for ex in exprs[n:]])
+        self._f, self._g = with_algebraic(model, self._params, *(CompiledFunction(args, [
+            ex.xreplace(swap) for ex in part]) for part in (exprs[:n], exprs[n:])))  # p + z
 
     def __repr__(self) -> str:
         return f"NumericDynamics({self._model.name!r}: {len(self.state_names)} states)"
@@ -156,7 +155,6 @@ class NumericDynamics(_CompiledModel):
             raised or returned something other than a real number.
         """
         try:
-            p = p if self._implicit is None else self._implicit.extend(t, x, u, p)   # p + z
             out = self._f(t, x, u, p)
         except CallbackFailure as fail:
             raise _callback_error(fail, self.name, t) from fail.__cause__
@@ -175,10 +173,7 @@ class NumericDynamics(_CompiledModel):
             than a real number (the message gives the time).
         """
         size = np.shape(t)
-        if self._implicit is not None and size:     # z differs per sample: one at a time
-            return self._implicit.per_sample(self.outputs, t, x, u, p, len(self.output_names))
         try:
-            p = p if self._implicit is None else self._implicit.extend(t, x, u, p)
             values = self._g(t, x, u, p)
         except CallbackFailure as fail:
             if not size:
