@@ -50,7 +50,10 @@ def cmd_equations(args) -> None:
     defn, model = _common._load(args.model)
     out = [f"model {model.name!r}" + (f": {defn.description}" if defn.description else "")]
     for title, names in (("states", model.state_names), ("inputs", model.input_names),
-                         ("outputs", model.output_names)):
+                         ("outputs", model.output_names),
+                         ("algebraic unknowns", model.algebraic_names)):
+        if title == "algebraic unknowns" and not names:
+            continue
         out.append(f"{title} ({len(names)}): {', '.join(names) or '-'}")
     params = [f"{p.name} = {defn.parameters[p.name]:g}" if p.name in defn.parameters else p.name
               for p in model.parameters]
@@ -59,10 +62,12 @@ def cmd_equations(args) -> None:
     if args.latex:
         # the one LaTeX naming helper of the package (bondgraph._support.labels): \dot{p}_{La}
         lines = [f"{latex_dot(s.name)} &= {tex(r)}" for s, r in zip(model.states, model.rhs)]
+        lines += [f"0 &= {tex(g)}" for g in model.residuals]
         lines += [f"{latex_name(n)} &= {tex(g)}" for n, g in zip(model.output_names, model.output_exprs)]
         out += ["\\begin{aligned}", " \\\\\n".join(lines), "\\end{aligned}"]
     else:
         out += [f"d{s.name}/dt = {r}" for s, r in zip(model.states, model.rhs)]
+        out += [f"0 = {g}" for g in model.residuals]
         out += [f"{n} = {g}" for n, g in zip(model.output_names, model.output_exprs)]
     print("\n".join(out))
 

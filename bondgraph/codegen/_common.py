@@ -286,6 +286,12 @@ def prepare(model: Model, *, reserved: Iterable[str], matlab: bool = False,
     """Rename a model's symbols to identifiers and check it can be generated."""
     if not isinstance(model, Model):
         raise CodegenError(f"expected a bondgraph Model (from bondgraph.derive); got {type(model).__name__}")
+    if model.algebraic:
+        raise CodegenError(
+            f"model {model.name!r} is implicit: it keeps the algebraic unknowns "
+            f"{', '.join(model.algebraic_names)} ({'; '.join(model.algebraic_origin)}), solved "
+            "numerically; code generation with a Newton loop is not implemented yet: simulate "
+            "it with bondgraph.simulate, or give the element an explicit inverse law")
     if model.input_derivatives:
         raise CodegenError(
             f"model {model.name!r}: the equations use time derivatives of inputs "

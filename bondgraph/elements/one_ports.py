@@ -339,6 +339,21 @@ class OnePort(_OneBond):
             return self._linear_inverse(self.inverse_own)
         return self._invert(self.law, self.own, self.inverse_own, self.law_name)
 
+    def _implicit_at(self, local: LocalVariables, sign: int, known: sympy.Expr,
+                     unknown: sympy.Symbol) -> Optional[sympy.Expr]:
+        """Residual of ``unknown = sign * law_at(known)`` written with the law that is
+        given, for a law whose needed direction has no closed form: ``known -
+        other_law(sign * unknown)``; None when neither direction is given."""
+        if self.parameter is not None:
+            return None
+        if self.law is not None:          # the inverse was needed: known = law(sign*z)
+            law = cast(sympy.Expr, self.law)
+            return self._modulated(local, law.xreplace({self.own: sign * unknown})) - known
+        if self.inverse is not None:      # the law was needed: known = inverse(sign*z)
+            inverse = cast(sympy.Expr, self.inverse)
+            return self._modulated(local, inverse.xreplace({self.inverse_own: sign * unknown})) - known
+        return None
+
     def _invert(self, expr, var, new_var, name) -> sympy.Expr:
         """Invert one scalar law ``new_var = expr(var)`` with ``sympy.solve``.
 
@@ -442,6 +457,13 @@ class _Storage(OnePort):
             raise AssertionError(f"{self.label()} is in derivative causality")
         out = self._forward_at(local.states[0])
         return self._modulated(local, self._signed(local, out, local.effort_in(0)))
+
+    def implicit_output(self, local: LocalVariables, port: int,
+                        unknown: sympy.Symbol) -> Optional[sympy.Expr]:
+        if not local.states:
+            return None
+        sign = local.sign(0) if local.effort_in(0) else 1   # the flow of an I is signed
+        return self._implicit_at(local, sign, local.states[0], unknown)
 
     def state_derivatives(self, local: LocalVariables) -> tuple[sympy.Expr, ...]:
         # dp/dt = e (an I receives effort), dq/dt = flow into the C
@@ -599,6 +621,13 @@ class R(OnePort):
         else:
             out = self._forward_at(s * x)
         return self._modulated(local, out)
+
+    def implicit_output(self, local: LocalVariables, port: int,
+                        unknown: sympy.Symbol) -> Optional[sympy.Expr]:
+        s, x = local.sign(0), local.input(0)
+        if local.effort_in(0):   # unknown = s*inverse(e): e = law(s*unknown)
+            return self._implicit_at(local, s, x, unknown)
+        return self._implicit_at(local, 1, s * x, unknown)   # s*f = inverse(unknown)
 
 
 

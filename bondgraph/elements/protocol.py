@@ -473,6 +473,17 @@ class Element:
         raise NotImplementedError(f"{self.label()}: {type(self).__name__} does not define "
                                   "output (see bondgraph.elements.protocol)")
 
+    def implicit_output(self, local: LocalVariables, port: int,
+                        unknown: sympy.Symbol) -> Optional[sympy.Expr]:
+        """When :meth:`output` has no closed form (a law with no symbolic inverse), the
+        residual ``r`` with ``r = 0`` defining the output ``unknown``; None otherwise.
+
+        Asked only after :meth:`output` raised :class:`~bondgraph.errors.LawError`;
+        the derivation then keeps ``unknown`` as an algebraic variable of an
+        implicit model ``x' = f(x, z, u)``, ``0 = g(x, z, u)``.
+        """
+        return None
+
     def state_derivatives(self, local: LocalVariables) -> tuple[sympy.Expr, ...]:
         """``dx/dt`` of each state (:meth:`state_names`) from the input variables."""
         return ()

@@ -40,10 +40,11 @@ import sympy
 from .._support.gcpause import with_paused_gc
 from .._support.warn import warn_user
 from ..causality import AugmentedBondGraph, assign_causality, dependencies
-from ..errors import (AlgebraicLoopError, BondGraphWarning, CausalityError, NameClashError,
-                     OutputError)
+from ..errors import (AlgebraicLoopError, BondGraphWarning, CausalityError, LawError,
+                     NameClashError, OutputError)
 from ..flatten import FlatGraph
 from ..graph import BondGraph
+from .implicit import ImplicitPart
 from .integrators import state_combination
 from .loops import SingularLoopError, compact_linear, solve_blocks
 from .record import StateEquations
@@ -155,6 +156,8 @@ class _Deriver:
         self.xdot: dict[sympy.Symbol, sympy.Symbol] = {}
         self.udot: dict[sympy.Symbol, sympy.Symbol] = {}
         self.broken: dict[int, sympy.Symbol] = {}     # var -> loop unknown
+        # what no symbolic solve eliminates: algebraic unknowns and residuals
+        self.implicit = ImplicitPart(self)
         # storage in derivative causality: its output variable and stored quantity are
         # unknowns during the causal sweep, resolved once the algebraic loops are solved
         self.dependent: dict[int, str] = {}            # output var -> element name
@@ -237,7 +240,8 @@ class _Deriver:
 
     def _check_parameter_names(self, exprs) -> None:
         """A parameter must not print like a state, an input or time."""
-        known = set(self.states) | set(self.input_syms) | set(self.udot.values()) | {T_SYM}
+        known = (set(self.states) | set(self.input_syms) | set(self.udot.values()) | {T_SYM}
+                 | self.implicit.named_symbols())
         for ex in exprs:
             for sym in ex.free_symbols - known:
                 if isinstance(sym, sympy.Dummy):
@@ -399,7 +403,7 @@ class _Deriver:
                 terms.append(sympy.diff(expr, s) * self.udot[s])
             elif s == T_SYM:
                 terms.append(sympy.diff(expr, s))
-            elif s in self.broken.values():
+            elif s in self.broken.values() or s in self.implicit.law_symbols():
                 raise AlgebraicLoopError(
                     f"{el.label()} is in derivative causality through an algebraic loop; "
                     "this combination is not supported"
@@ -413,23 +417,34 @@ class _Deriver:
     def _compute(self, v: int) -> sympy.Expr:
         el = self.flat.elements[self.producer[v]]
         k = v // 2
-        return el.output(self._local(el, self._inp), self.port_at[k][self.bonds[k].head == el.name])
+        local, port = self._local(el, self._inp), self.port_at[k][self.bonds[k].head == el.name]
+        try:
+            return el.output(local, port)
+        except LawError:          # no closed form: keep the output as an algebraic unknown
+            z = self.implicit.law_unknown(el, v)
+            residual = el.implicit_output(local, port, z)
+            if residual is None:
+                raise
+            self.implicit.add_law(z, residual, el, v)
+            return z
 
     # ------------------------------------------------------------ solving
     def _knowns(self) -> set:
         """Symbols that are not parameters: states, inputs, their derivatives, unknowns, t."""
         return (set(self.states) | set(self.input_syms) | set(self.xdot.values())
                 | set(self.udot.values()) | set(self.broken.values())
-                | {x for xs in self.stored_sym.values() for x in xs} | {T_SYM})
+                | {x for xs in self.stored_sym.values() for x in xs} | {T_SYM}
+                | self.implicit.law_symbols())
 
-    def _solve_blocks(self, unknowns: dict[sympy.Symbol, sympy.Expr], what: str) -> dict:
+    def _solve_blocks(self, unknowns: dict[sympy.Symbol, sympy.Expr], what: str,
+                      implicit: Optional[list] = None) -> dict:
         """Solve u = expr(u, ...) for the unknowns (see :func:`bondgraph.equations.loops.solve_blocks`)."""
         try:
             # one key per state; an element with several states has keys name, name\0 1, ...
             states = {name + (f"\0{i}" if i else ""): x for name, xs in self.state_of.items()
                       for i, x in enumerate(xs)}
             return solve_blocks(unknowns, knowns=self._knowns(), what=what,
-                                model=self.flat.name, states=states)
+                                model=self.flat.name, states=states, implicit=implicit)
         except SingularLoopError as err:
             storage = tuple(n.split("\0")[0] for n in err.storage)
             err.storage = tuple(dict.fromkeys(storage + self._storage_near(err.block)))
@@ -489,8 +504,10 @@ class _Deriver:
             raw.append(self._signal_value(base))
             done += 1
         # unknowns of algebraic loops
+        loops: list = []
         zsol = self._solve_blocks({z: self.val[v] for v, z in self.broken.items()
-                                   if v not in self.dependent}, "algebraic loop")
+                                   if v not in self.dependent}, "algebraic loop", loops)
+        self.implicit.add_loops(loops)
         # storage in derivative causality: stored quantity and its time derivative
         unknowns_of = {n: set(xs) | {self.broken[v] for v in self.dependent_vars[n]}
                        for n, xs in self.stored_sym.items()}
@@ -521,6 +538,7 @@ class _Deriver:
                 zsol[u] = zsol[u].xreplace(zsol)
             raw = [r.xreplace(zsol) for r in raw]
             out_exprs = [o.xreplace(zsol) for o in out_exprs]
+            self.implicit.substitute(zsol)
         # derivative causality: x' = raw(x, u, x')
         xd_syms = set(self.xdot.values())
         states = list(self.states)
@@ -551,7 +569,9 @@ class _Deriver:
             knowns = self._knowns()
             rhs = compact_linear(list(rhs), knowns)
             out_exprs = compact_linear(list(out_exprs), knowns)
-        self._check_parameter_names(list(rhs) + list(out_exprs))
+        algebraic, residuals, origin, rhs, out_exprs = self.implicit.finish(
+            set(self.xdot.values()), rhs, out_exprs)
+        self._check_parameter_names(list(rhs) + list(out_exprs) + list(residuals))
         inputs = tuple(self.input_syms)
         udots = tuple(self.udot[u] for u in inputs
                       if any(self.udot[u] in r.free_symbols for r in list(rhs) + out_exprs))
@@ -568,6 +588,9 @@ class _Deriver:
             storage_states=n_storage,
             integrators=tuple((sym.name, str(sig)) for sig, sym in self.integrators.items()
                               if sym in states),
+            algebraic=algebraic,
+            residuals=residuals,
+            algebraic_origin=origin,
         )
 
     def _reuse_states(self, states, rhs, out_exprs, descriptor, n_storage):

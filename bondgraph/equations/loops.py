@@ -88,7 +88,8 @@ def _solve_linear_in_knowns(M: sympy.Matrix, rhs: sympy.Matrix, knowns: set):
 
 
 def solve_blocks(unknowns: dict[sympy.Symbol, sympy.Expr], *, knowns: set, what: str,
-                 model: str, states: Mapping[str, sympy.Symbol]) -> dict:
+                 model: str, states: Mapping[str, sympy.Symbol],
+                 implicit: Optional[list] = None) -> dict:
     """Solve ``u = expr(u, ...)`` for the unknowns, block by block in causal order.
 
     Blocks are the strongly connected components of "unknown appears in the
@@ -106,6 +107,10 @@ def solve_blocks(unknowns: dict[sympy.Symbol, sympy.Expr], *, knowns: set, what:
         Model name, for messages.
     states : mapping
         Storage element name -> state symbol, to name the storage in a singular block.
+    implicit : list, optional
+        When given, a block nonlinear in its unknowns is not refused: its
+        unknowns stay unsolved (symbols in what follows) and ``(block,
+        residuals)`` is appended, with ``residuals[i] = u_i - expr_i = 0``.
 
     Raises
     ------
@@ -140,19 +145,25 @@ def solve_blocks(unknowns: dict[sympy.Symbol, sympy.Expr], *, knowns: set, what:
         zero = {u: 0 for u in block}
         M = sympy.zeros(len(block))
         rhs = sympy.zeros(len(block), 1)
+        nonlinear = False
         for i, (u, ex) in enumerate(zip(block, eqs)):
             for j, w in enumerate(block):
                 a = sympy.diff(ex, w)
                 if a.free_symbols & set(block):
                     a = reduced(a)          # zero coefficients of unknowns, decided exactly
                 if a.free_symbols & set(block):
-                    raise AlgebraicLoopError(
-                        f"model {model!r}: the {what} in {', '.join(map(str, block))} "
-                        "is nonlinear in its unknowns; give an explicit (inverse) law for the "
-                        "R or storage element involved"
-                    )
+                    if implicit is None:
+                        raise AlgebraicLoopError(
+                            f"model {model!r}: the {what} in {', '.join(map(str, block))} "
+                            "is nonlinear in its unknowns; give an explicit (inverse) law for "
+                            "the R or storage element involved"
+                        )
+                    nonlinear = True
                 M[i, j] = (1 if i == j else 0) - a
             rhs[i] = ex.xreplace(zero)
+        if nonlinear and implicit is not None:      # kept as residuals u - expr(u) = 0 (an implicit model)
+            implicit.append((tuple(block), tuple(u - ex for u, ex in zip(block, eqs))))
+            continue
         singular = SingularLoopError(
             f"model {model!r}: the {what} in {', '.join(u.name for u in block)} "
             "is singular: the junction structure does not determine these variables (a "

@@ -50,6 +50,17 @@ class StateEquations:
         :mod:`bondgraph.equations.integrators`).
     declared_parameters : tuple of str
         Parameter names a model definition declares beyond its elements'.
+    algebraic : tuple of sympy.Symbol
+        Algebraic unknowns ``z`` of an implicit model: the variables of a
+        nonlinear algebraic loop, and the outputs of laws with no closed-form
+        inverse, that no symbolic solve could eliminate.  ``rhs`` and
+        ``output_exprs`` may then hold them: ``x' = f(x, z, u)``,
+        ``y = h(x, z, u)``.  Empty for an explicit model.
+    residuals : tuple of sympy.Expr
+        ``0 = g(x, z, u)``, one per algebraic unknown.
+    algebraic_origin : tuple of str
+        For each algebraic unknown, what it is (``"the flow of R:D (its
+        effort law has no closed-form inverse)"``), for messages.
 
     Examples
     --------
@@ -74,6 +85,10 @@ class StateEquations:
     #: parameter names a model definition declares beyond its elements' (the
     #: defaults of a model file that serves several variants)
     declared_parameters: tuple[str, ...] = field(default=(), repr=False)
+    #: implicit part: algebraic unknowns z and residuals 0 = g(x, z, u)
+    algebraic: tuple[sympy.Symbol, ...] = field(default=(), repr=False)
+    residuals: tuple[sympy.Expr, ...] = field(default=(), repr=False)
+    algebraic_origin: tuple[str, ...] = field(default=(), repr=False)
     #: results computed once per model (state_space, descriptor_form); not part of equality
     _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
@@ -92,14 +107,24 @@ class StateEquations:
         got = self._cache.get("parameters")      # frozen record: walk the equations once
         if got is not None:
             return got
-        known = set(self.states) | set(self.inputs) | set(self.input_derivatives) | {T_SYM}
+        known = (set(self.states) | set(self.inputs) | set(self.input_derivatives) | {T_SYM}
+                 | set(self.algebraic))
         syms = set()
-        for ex in self.rhs + self.output_exprs:
+        for ex in self.rhs + self.output_exprs + self.residuals:
             syms |= ex.free_symbols
         if self.descriptor is not None:
             syms |= self.descriptor[0].free_symbols
         got = self._cache["parameters"] = tuple(sorted(syms - known, key=lambda s: s.name))
         return got
+
+    @property
+    def algebraic_names(self) -> tuple[str, ...]:
+        return tuple(z.name for z in self.algebraic)
+
+    @property
+    def is_implicit(self) -> bool:
+        """Whether the model keeps algebraic unknowns ``z`` with residuals ``0 = g(x, z, u)``."""
+        return bool(self.algebraic)
 
     @property
     def known_parameters(self) -> tuple[str, ...]:
@@ -138,6 +163,7 @@ class StateEquations:
         """
         eqs = [sympy.Eq(sympy.Derivative(s, T_SYM, evaluate=False), r, evaluate=False)
                for s, r in zip(self.states, self.rhs)]
+        eqs += [sympy.Eq(sympy.Integer(0), g, evaluate=False) for g in self.residuals]
         eqs += [sympy.Eq(sympy.Symbol(n), g, evaluate=False)
                 for n, g in zip(self.output_names, self.output_exprs)]
         return tuple(eqs)
@@ -145,8 +171,13 @@ class StateEquations:
     def __str__(self) -> str:
         lines = [f"model {self.name!r}: {len(self.states)} states, {len(self.inputs)} inputs, "
                  f"{len(self.output_names)} outputs"]
+        if self.algebraic:
+            lines[0] += (f", {len(self.algebraic)} algebraic unknowns "
+                         f"({', '.join(self.algebraic_names)})")
         for s, r in zip(self.states, self.rhs):
             lines.append(f"  d{s.name}/dt = {r}")
+        for g in self.residuals:
+            lines.append(f"  0 = {g}")
         for n, g in zip(self.output_names, self.output_exprs):
             lines.append(f"  {n} = {g}")
         return "\n".join(lines)

@@ -7,7 +7,8 @@ of a model, symbolic linearization and operating points.
   :class:`~bondgraph.equations.StateEquations` record;
 * :mod:`~bondgraph.linear.statespace` -- :class:`SymbolicStateSpace`;
 * :mod:`~bondgraph.linear.operating` -- :func:`equilibrium` (trim) and the
-  :class:`Equilibrium` it returns;
+  :class:`Equilibrium` it returns; :mod:`~bondgraph.linear.implicit` -- the
+  same for implicit models (``f = 0`` and ``g = 0`` together);
 * :mod:`~bondgraph.linear.forms` -- the linear coefficients behind them.
 
 The numeric plant at an operating point is :func:`bondgraph.numeric.linear_plant`.
@@ -27,7 +28,8 @@ Matrix([[1/C]])
 
 from .model_forms import (derivative_form, descriptor_form, is_linear, laplace_system, linearize,
                           state_space, transfer_function, transfer_matrix)
-from .operating import Equilibrium, EquilibriumError, equilibrium
+from .operating import Equilibrium, EquilibriumError
+from .implicit import equilibrium
 from .statespace import SymbolicStateSpace
 
 __all__ = ["SymbolicStateSpace", "state_space", "is_linear", "descriptor_form", "laplace_system",

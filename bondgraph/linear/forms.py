@@ -97,6 +97,17 @@ def derivative_orders(model: StateEquations) -> dict[sympy.Symbol, tuple[int, in
     return out
 
 
+def refuse_implicit(model: StateEquations, what: str) -> None:
+    """:class:`NonlinearModelError` for an implicit model (algebraic unknowns ``z``), naming them."""
+    if model.algebraic:
+        raise NonlinearModelError(
+            f"model {model.name!r} is implicit: x' = f(x, z, u), 0 = g(x, z, u) with the "
+            f"algebraic unknowns {', '.join(model.algebraic_names)} "
+            f"({'; '.join(model.algebraic_origin)}); it has no {what}.  Linearize it at a "
+            "numeric operating point instead: model.linearize(model.equilibrium(values, "
+            "inputs)) (the implicit-function theorem, A = f_x - f_z g_z^-1 g_x)")
+
+
 @with_paused_gc
 def linear_form(exprs, x, u, model: StateEquations, what: str, lhs: str, ud=None):
     """Sparse ``(M_x, M_u)`` with ``exprs = M_x x + M_u u``; checks linearity.
@@ -109,6 +120,7 @@ def linear_form(exprs, x, u, model: StateEquations, what: str, lhs: str, ud=None
     coefficient directly; any other term is differentiated.  Cost is
     proportional to the size of the expressions, not to ``len(x)**2``.
     """
+    refuse_implicit(model, "a constant linear form")
     x, u = tuple(x), tuple(u)
     ud_cols = tuple(ud) if ud is not None else ()
     col = {s: (0, j) for j, s in enumerate(x)}

@@ -33,6 +33,7 @@ def model_latex(model: StateEquations, *, matrices: bool = False) -> str:
 def equations_latex(model: StateEquations) -> str:
     r"""``\dot x = f`` and ``y = g`` lines as a LaTeX aligned block."""
     rows = [r"%s &= %s" % (latex_dot(s.name), tex(r)) for s, r in zip(model.states, model.rhs)]
+    rows += [r"0 &= %s" % tex(g) for g in model.residuals]     # an implicit model's g(x, z, u)
     rows += [r"%s &= %s" % (latex_name(n), tex(g))
              for n, g in zip(model.output_names, model.output_exprs)]
     return r"$$\begin{aligned}" + r" \\ ".join(rows) + r"\end{aligned}$$"

@@ -28,7 +28,7 @@ from ..signals import t as T_SYM
 from ..tf import transfer_function as tf_transfer_function
 from ..tf import transfer_matrix as tf_transfer_matrix
 from ..tf import resolve_signal
-from .forms import derivative_orders, linear_form, point_values, residual
+from .forms import derivative_orders, linear_form, point_values, refuse_implicit, residual
 from .statespace import SymbolicStateSpace
 
 __all__ = ["state_space", "is_linear", "descriptor_form", "laplace_system", "derivative_form",
@@ -176,6 +176,7 @@ def _descriptor_form(eqs: StateEquations) -> SymbolicStateSpace:
 def linearize(eqs: StateEquations, x0=None, u0=None, *, equilibrium: bool = True,
               tol: float = 1e-9) -> SymbolicStateSpace:
     """Symbolic Jacobians about ``(x0, u0)`` (see :meth:`bondgraph.Model.linearize`)."""
+    refuse_implicit(eqs, "symbolic linearization")
     x, u = eqs.states, eqs.inputs
     point = {**point_values(eqs, x0, x, "state"), **point_values(eqs, u0, u, "input")}
     bad = set(eqs.input_derivatives) | {T_SYM}

@@ -87,6 +87,8 @@ class Equilibrium:
         From the eigenvalues' real parts (``"marginal"``: one on the
         imaginary axis, such as the angle of a free shaft; ``"unknown"``: ``df/dx`` is
         not finite at the point, as for a square-root orifice at zero flow).
+    algebraic : mapping of name to float
+        ``z0`` of an implicit model (its algebraic unknowns there); empty otherwise.
     """
 
     states: Mapping[str, float]
@@ -100,23 +102,26 @@ class Equilibrium:
     jacobian: str = field(default="symbolic", repr=False)
     eigenvalues: tuple = field(default=(), repr=False)
     stability: str = "unknown"
+    algebraic: Mapping[str, float] = field(default_factory=dict, repr=False)
 
     def __post_init__(self) -> None:
-        for name in ("states", "inputs", "values"):
+        for name in ("states", "inputs", "values", "algebraic"):
             object.__setattr__(self, name, MappingProxyType(dict(getattr(self, name))))
         object.__setattr__(self, "eigenvalues", tuple(complex(v) for v in self.eigenvalues))
 
     def __reduce__(self):
         return (_rebuild, (dict(self.states), dict(self.inputs), dict(self.values),
                            self.residual, self.method, self.how, self.scaled_residual,
-                           self.condition, self.jacobian, self.eigenvalues, self.stability))
+                           self.condition, self.jacobian, self.eigenvalues, self.stability,
+                           dict(self.algebraic)))
 
 
 def _rebuild(states, inputs, values, residual, method, how="", scaled_residual=0.0,
-             condition=math.nan, jacobian="symbolic", eigenvalues=(), stability="unknown"):
+             condition=math.nan, jacobian="symbolic", eigenvalues=(), stability="unknown",
+             algebraic=None):
     return Equilibrium(states, inputs, values, residual, method, how=how,
                        scaled_residual=scaled_residual, condition=condition, jacobian=jacobian,
-                       eigenvalues=eigenvalues, stability=stability)
+                       eigenvalues=eigenvalues, stability=stability, algebraic=algebraic or {})
 
 
 def _named(model: "Model", given: Optional[Mapping], symbols, what: str) -> dict[sympy.Symbol, float]:

@@ -26,6 +26,7 @@ from ..errors import BondGraphError
 from ..linear import Equilibrium, EquilibriumError, linearize
 from ..linear.operating import equilibrium_scaled
 from ..parameters import ParameterValues, match_values, real_value
+from .implicit import implicit_plant
 from .statespace import NumericStateSpace
 
 __all__ = ["linear_plant"]
@@ -34,6 +35,8 @@ __all__ = ["linear_plant"]
 def linear_plant(model: StateEquations, point: Equilibrium | Mapping, inputs: Optional[Mapping],
                  values: ParameterValues, tol: float) -> Any:
     """Numeric plant of ``model`` linearized at ``point`` (see :meth:`Model.linearize`)."""
+    if model.algebraic:       # implicit: the implicit-function theorem
+        return implicit_plant(model, point, inputs, values, tol)
     where = f"model {model.name!r}: "
     if isinstance(point, Equilibrium):
         x0, u0 = dict(point.states), dict(point.inputs)

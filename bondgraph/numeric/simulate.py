@@ -39,6 +39,7 @@ from ._field_values import check_fields_at
 from ._stiffness import check_stiffness
 from .errors import NumericError, SimulationError
 from .resolve import ParameterValues, resolve_parameters
+from .implicit import with_algebraic
 from .plant import _CompiledModel, control_labels
 
 if TYPE_CHECKING:  # imported lazily at run time
@@ -122,15 +123,15 @@ class NumericDynamics(_CompiledModel):
         (tt,) = placeholders("t", 1)
         xs = placeholders("x", len(model.states))
         us = placeholders("u", len(model.inputs))
-        ps = placeholders("p", len(self._params))
+        ps = placeholders("p", len(self._params) + len(model.algebraic))
         swap = {T_SYM: tt, **dict(zip(model.states, xs)), **dict(zip(model.inputs, us)),
-                **dict(zip(self._params, ps))}
+                **dict(zip((*self._params, *model.algebraic), ps))}
         args = [tt, xs, us, ps]
         exprs = guard_user_functions((*model.rhs, *model.output_exprs),
                                      lambda func: _law_owners(model, func))
         n = len(model.rhs)
-        self._f = CompiledFunction(args, [ex.xreplace(swap) for ex in exprs[:n]])
-        self._g = CompiledFunction(args, [ex.xreplace(swap) for ex in exprs[n:]])
+        self._f, self._g = with_algebraic(model, self._params, *(CompiledFunction(args, [
+            ex.xreplace(swap) for ex in part]) for part in (exprs[:n], exprs[n:])))  # p + z
 
     def __repr__(self) -> str:
         return f"NumericDynamics({self._model.name!r}: {len(self.state_names)} states)"

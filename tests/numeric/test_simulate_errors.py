@@ -302,15 +302,21 @@ def test_law_callable_returning_an_expression_still_works():
     assert bg.R("Rf", law=lambda f: 2 * f**3).forward() == 2 * bg.f**3
 
 
-def test_uninvertible_law_is_a_law_error():
-    # on a 0-junction the damper is given its effort and needs f(e): f + sin(f) = e has no closed form
+def test_uninvertible_law_is_kept_implicit():
+    # on a 0-junction the damper is given its effort and needs f(e): f + sin(f) = e has no
+    # closed form; since issue 29 the flow stays an algebraic unknown solved numerically
+    from scipy.optimize import brentq
+
     g = bg.BondGraph("par")
     z = bg.Zero("z")
     g.add(bg.Sf("v"), z, bg.C("k"), bg.R("Rf", law=bg.f + sympy.sin(bg.f)))
     for tail, head in [("v", z), (z, "k"), (z, "Rf")]:
         g.connect(tail, head)
-    err = raises_promptly(bg.LawError, "R:Rf", "inverse=", call=lambda: bg.derive(g))
-    assert isinstance(err.__cause__, NotImplementedError)
+    model = bg.derive(g, outputs={"f": bg.flow("Rf")})
+    assert model.algebraic_names == ("f_Rf",)
+    dyn = bg.numeric.compile_dynamics(model)
+    y = dyn.outputs(0.0, [3.0], [0.0], dyn.parameter_vector({"k": 2.0}))[0]
+    assert y == pytest.approx(brentq(lambda f: f + np.sin(f) - 1.5, 0.0, 1.5, xtol=1e-15), rel=1e-12)
 
 
 def _user_law(fn, name="user"):
