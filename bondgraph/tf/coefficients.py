@@ -273,11 +273,11 @@ def coefficient_table(G, values: Optional[Mapping] = None, *,
         unit = None
         if monic and output_unit and input_unit:
             unit = _ratio_unit(output_unit, input_unit, den_degree - power, time_unit)
-        rows.append(CoefficientRow(f"a{power}", power, sp.sympify(c), vnum[k], unit, pnum[k]))
+        rows.append(CoefficientRow(f"a{power}", power, sp.sympify(c, strict=True), vnum[k], unit, pnum[k]))
     for k, c in enumerate(den):
         power = den_degree - k
         unit = _time_unit(den_degree - power, time_unit) if monic else None
-        rows.append(CoefficientRow(f"b{power}", power, sp.sympify(c), vden[k], unit, pden[k]))
+        rows.append(CoefficientRow(f"b{power}", power, sp.sympify(c, strict=True), vden[k], unit, pden[k]))
     if not (isinstance(digits, int) and digits >= 1) or isinstance(digits, bool):
         raise InvalidOptionError(f"digits: expected an integer >= 1, got {digits!r}")
     for r in rows:

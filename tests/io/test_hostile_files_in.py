@@ -170,7 +170,7 @@ def test_unknown_member_is_never_decompressed(tmp_path):
 
 def test_member_size_checked_from_header(tmp_path, monkeypatch):
     """A member larger than the budget is refused from the zip directory, before reading it."""
-    import bondgraph._support.npz_read as reader
+    import bondgraph.export.npz_read as reader
 
     path = tmp_path / "p.npz"
     export_npz(_plant(), path)

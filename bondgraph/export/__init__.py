@@ -95,10 +95,10 @@ from typing import Any, Callable, Mapping, Optional, Sequence
 
 import numpy as np
 
-from .errors import BondGraphError
-from .numeric.plant import NumericStateSpace
-from .numeric.sparse import SPARSE_THRESHOLD
-from .numeric.statespace import issparse
+from ..errors import BondGraphError
+from ..numeric.plant import NumericStateSpace
+from ..numeric.sparse import SPARSE_THRESHOLD
+from ..numeric.statespace import issparse
 
 __all__ = ["ExportError", "FORMAT_NAME", "FORMAT_VERSION", "export", "export_mat", "export_npz",
            "export_json", "load_json", "load_npz", "atomic_write", "atomic_write_many", "FORMATS", "EXPORT_FORMATS",
@@ -112,7 +112,7 @@ FORMATS = {".mat": "mat", ".npz": "npz", ".json": "json"}
 #: code (C with its header, MATLAB/Octave, Python) and FMUs; the one table the CLI reads
 EXPORT_FORMATS = {**FORMATS, ".c": "c", ".m": "m", ".py": "py", ".fmu": "fmu"}
 
-from ._support.files import (ExportError, HugeInt, PathLike, short_repr, target_path, unlink_quietly, atomic_write,  # noqa: F401
+from .._support.files import (ExportError, HugeInt, PathLike, short_repr, target_path, unlink_quietly, atomic_write,  # noqa: F401
                     atomic_write_many, checked_path, decode_json, number_problem)
 
 
@@ -296,7 +296,7 @@ def load_npz(path: PathLike) -> NumericStateSpace:
     >>> back.is_sparse, back.A.toarray().tolist(), dict(back.parameters)
     (True, [[-1.0, 0.0], [1.0, -2.0]], {'k': 2.0})
     """
-    from ._support.npz_read import read_npz
+    from .npz_read import read_npz
 
     return read_npz(str(target_path(path)), FORMAT_NAME, FORMAT_VERSION)
 
@@ -439,7 +439,7 @@ def load_json(path: PathLike) -> NumericStateSpace:
     >>> back.name, back.state_names, back.B, dict(back.parameters)
     ('lag', ('x',), array([[1.]]), {'tau': 1.0})
     """
-    from ._support.safe_read import PLANT_LIMIT, read_regular
+    from .._support.safe_read import PLANT_LIMIT, read_regular
 
     target = target_path(path)
     raw = read_regular(str(target), "plant file", lambda message: ExportError(message, path=str(target)),

@@ -20,9 +20,9 @@ from typing import Any, Callable
 
 import numpy as np
 
-from .safe_read import PLANT_LIMIT, open_regular
+from .._support.safe_read import PLANT_LIMIT, open_regular
 from ..errors import BondGraphError
-from .files import ExportError
+from .._support.files import ExportError
 
 __all__ = ["ARRAYS_LIMIT", "read_npz"]
 
@@ -53,7 +53,7 @@ def read_npz(path: str, FORMAT_NAME: str, FORMAT_VERSION: int) -> Any:
 
     Returns the :class:`~bondgraph.numeric.NumericStateSpace`.
     """
-    from .numeric.plant import NumericStateSpace
+    from ..numeric.plant import NumericStateSpace
 
     def fail(message: str) -> ExportError:
         return ExportError(f"'{path}': {message}", path=path)
