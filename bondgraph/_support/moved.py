@@ -8,7 +8,8 @@ answers for the names below, so it costs nothing on any other import.
 
 Examples
 --------
->>> import warnings, bondgraph
+>>> import sys, warnings, bondgraph
+>>> _ = sys.modules.pop("bondgraph.statespace", None)     # as in a fresh interpreter
 >>> with warnings.catch_warnings(record=True) as caught:
 ...     warnings.simplefilter("always")
 ...     from bondgraph.statespace import SymbolicStateSpace
