@@ -267,7 +267,8 @@ def check_causalities(factory: Factory) -> tuple[tuple[tuple[bool, ...], Optiona
             raise _fail(el, "causalities", f"sources {pattern}: states {sorted(missing)} it "
                                            f"names are not states of the model {model.state_names}")
         allowed = set(model.states) | set(model.inputs) | set(model.input_derivatives) \
-            | set(model.parameters) | {sympy.Symbol("t", real=True)}
+            | set(model.parameters) | set(getattr(model, "algebraic", ())) \
+            | {sympy.Symbol("t", real=True)}
         for name, ex in zip(model.output_names, model.output_exprs):
             if not isinstance(ex, sympy.Expr) or ex.free_symbols - allowed:
                 raise _fail(el, "causalities", f"sources {pattern}: output {name} = {ex} is not "

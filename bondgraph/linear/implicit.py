@@ -88,7 +88,8 @@ def implicit_equilibrium(model: "Model", values: ParameterValues, inputs: Option
     known = {**pvals, **u0, **held}
     eqs = [ex.xreplace(known) for ex in model.rhs + model.residuals]
     f = sympy.lambdify([free], eqs, modules="numpy")
-    jac = sympy.lambdify([free], sympy.Matrix(eqs).jacobian(free), modules="numpy")
+    jac = sympy.lambdify([free], sympy.Matrix(eqs).jacobian(free).replace(     # DiracDelta: 0 off
+        sympy.DiracDelta, lambda *a: sympy.S.Zero), modules="numpy")             # the jump
 
     def fun(v):
         return np.asarray(f(v), dtype=float)

@@ -76,7 +76,8 @@ class ImplicitSolver:
                 **dict(zip(params, ps)), **dict(zip(model.algebraic, zs))}
         res = guard_user_functions(model.residuals, lambda f: str(f))
         # differentiated in the model's real symbols (d|z|/dz = sign(z)), then renamed
-        jac = sympy.Matrix(res).jacobian(list(model.algebraic))
+        # DiracDelta (the derivative of sign or Heaviside) is 0 away from the jump
+        jac = _dirac_free(sympy.Matrix(res).jacobian(list(model.algebraic)))
         args = [tt, xs, us, ps, zs]
         self._g = CompiledFunction(args, [r.xreplace(swap) for r in res])
         self._jac = CompiledFunction(args, [j.xreplace(swap) for j in jac])
@@ -238,7 +239,7 @@ def implicit_plant(model: StateEquations, point: Any, inputs: Optional[Mapping],
           **{u: float(u0.get(u.name, 0.0)) for u in model.inputs}, **pvals}
     z_syms = list(model.algebraic)
     g = [r.xreplace(at) for r in model.residuals]
-    gz = sympy.lambdify([z_syms], sympy.Matrix(g).jacobian(z_syms), modules="numpy")
+    gz = sympy.lambdify([z_syms], _dirac_free(sympy.Matrix(g).jacobian(z_syms)), modules="numpy")
     gf = sympy.lambdify([z_syms], g, modules="numpy")
     z_start = np.array([float(z_given.get(z.name, 0.0)) for z in z_syms])
     z0 = _solve_z(gf, gz, z_start)
@@ -288,3 +289,8 @@ def _solve_z(gf, gz, start: np.ndarray) -> Optional[np.ndarray]:
         return None
     res = np.asarray(gf(sol.x), dtype=float)
     return np.asarray(sol.x, dtype=float) if np.max(np.abs(res), initial=0.0) < 1e-9 else None
+
+
+def _dirac_free(expr):
+    """``DiracDelta`` (the derivative of a jump: ``sign``, ``Heaviside``) is 0 away from the jump."""
+    return expr.replace(sympy.DiracDelta, lambda *a: sympy.S.Zero)

@@ -254,7 +254,7 @@ def warn_unidentifiable(model: object, free: Sequence[str], input: str, output: 
     >>> with warnings.catch_warnings(record=True) as w:
     ...     warnings.simplefilter("always")
     ...     _ = warn_unidentifiable(m, ["R", "C"], "V", "v")
-    >>> print(w[0].message)
+    >>> print(next(x.message for x in w if "identifiable" in str(x.message)))
     free parameters R, C are not all identifiable from v/V: its coefficients fix 1 combination(s) of 2 (rank of the Jacobian); not identifiable one by one: R, C; identifiable monomials: C*R. Fix some of them to known values.
     """
     if not isinstance(model, Model) or len(model.states) > max_states:

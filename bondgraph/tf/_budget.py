@@ -37,10 +37,10 @@ __all__ = ["DEFAULT_MAX_TERMS", "term_bound", "check_budget"]
 #: is tight for a modal beam (9 modes: 330,000 bounded, 197,000 in the answer) and
 #: loose where entries cancel (the 20-state chain of ``bench/bench_tf.py``:
 #: 21 million bounded, 699,071 in its denominator; FLEXCAM's system form with 8
-#: modes, computed in notebook 02 in seconds: 188 million bounded).  The default
-#: refuses only what cannot fit in memory whatever the cancellation: a 17-mode
-#: beam (a few billion bounded); pass a smaller ``max_terms`` for a tighter guard
-DEFAULT_MAX_TERMS = 1_000_000_000
+#: modes, computed in notebook 02 in seconds: 3.9 billion bounded).  The default
+#: refuses only what cannot fit in memory whatever the cancellation: a 20-mode
+#: beam (about 10^11 bounded); pass a smaller ``max_terms`` for a tighter guard
+DEFAULT_MAX_TERMS = 10_000_000_000
 
 #: subset states the permanent's expansion may visit before the cheap bound is used
 _PLAN_LIMIT = 2_000_000

@@ -47,9 +47,11 @@ __all__ = ["generate", "build", "check", "Outcome", "CLASSES", "dsl"]
 #: laws (issue 29), "no-equilibrium-found" a trim the package did not find that the
 #: reference did (reported apart), "reference-failed" the reference's own failure,
 #: "derivative-causality" a model with dependent storage (the reference has no index
-#: reduction: not compared)
+#: reduction: not compared), "implicit-trajectory" an implicit model (issue 29: a loop or
+#: law kept as 0 = g(x, z, u)) whose trajectory agrees; its symbolic linearization is
+#: refused by design, so the Jacobians are not compared
 CLASSES = ("wrong", "crash", "timeout", "refused", "no-equilibrium-found", "reference-failed",
-           "derivative-causality", "agree")
+           "derivative-causality", "implicit-trajectory", "agree")
 
 #: tolerances: trajectories, Jacobians (central differences, h = 1e-6), equilibrium residual
 TOL_X, TOL_J, TOL_F = 1e-6, 1e-5, 1e-7
@@ -319,6 +321,9 @@ def _check(graph: NGraph, out: Outcome, t_end: float) -> None:
     out.checks["trajectory"] = err
     if not err <= TOL_X:
         out.cls, out.detail = "wrong", f"trajectory differs by {err:.3g} (scaled)"
+        return
+    if getattr(model, "algebraic", ()):
+        out.cls, out.detail = "implicit-trajectory", "implicit model: trajectory compared only"
         return
     # ---- linearize at a random point (not an equilibrium)
     u_point = ref.u_of_t(0.3)
