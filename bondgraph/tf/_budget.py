@@ -33,14 +33,13 @@ from .errors import InvalidOptionError, TermBudgetError
 
 __all__ = ["DEFAULT_MAX_TERMS", "term_bound", "check_budget"]
 
-#: default ``max_terms`` of :func:`~bondgraph.tf.transfer_function`.  The bound
-#: is tight for a modal beam (9 modes: 330,000 bounded, 197,000 in the answer) and
-#: loose where entries cancel (the 20-state chain of ``bench/bench_tf.py``:
-#: 21 million bounded, 699,071 in its denominator; FLEXCAM's system form with 8
-#: modes, computed in notebook 02 in seconds: 3.9 billion bounded).  The default
-#: refuses only what cannot fit in memory whatever the cancellation: a 20-mode
-#: beam (about 10^11 bounded); pass a smaller ``max_terms`` for a tighter guard
-DEFAULT_MAX_TERMS = 10_000_000_000
+#: default ``max_terms`` of :func:`~bondgraph.tf.transfer_function`: no budget.  The
+#: bound is close for a modal beam (9 modes: 330,000 bounded, 197,000 in the answer) but
+#: loose where entries cancel (the 20-state chain: 21 million bounded, 699,071 terms;
+#: FLEXCAM's 18-state system form in notebook 02: 3.9 billion bounded), and computing
+#: it costs time of its own on large pencils, so the guard is asked for explicitly
+#: (``max_terms=30_000_000`` refuses the 14-mode beam in under a second)
+DEFAULT_MAX_TERMS: Optional[int] = None
 
 #: subset states the permanent's expansion may visit before the cheap bound is used
 _PLAN_LIMIT = 2_000_000

@@ -160,7 +160,7 @@ def transfer_function(A, B, C, D=None, *, E=None, input: str | int | None = None
         Term budget: before expanding, the number of terms of ``det(sE - A)``
         and of the numerator is bounded from the sparsity and the terms of
         each entry (:mod:`bondgraph.tf._budget`); past ``max_terms``
-        (default 10,000,000,000) the call is refused with
+        (default None: no budget) the call is refused with
         :class:`~bondgraph.tf.errors.TermBudgetError`.  ``None``: no budget.
 
     Returns
