@@ -43,29 +43,9 @@ __all__ = ["Model", "derive"]
 class Model(StateEquations):
     """Symbolic state equations of a bond graph.
 
-    Attributes
-    ----------
-    name : str
-    augmented : AugmentedBondGraph
-    states, inputs : tuple of sympy.Symbol
-    output_names : tuple of str
-    rhs : tuple of sympy.Expr
-        ``x' = rhs`` in the order of ``states``.
-    output_exprs : tuple of sympy.Expr
-    input_derivatives : tuple of sympy.Symbol
-        Input derivatives that appear (a flow source driving an inertia
-        directly, for instance); such a model has no (A, B) form.
-    descriptor : (E, F) or None
-        With derivative causality: ``E(x) x' = F(x, u)`` before solving.
-    storage_states : int
-        How many of the states belong to storage elements (the rest are
-        integrators added for displacement or momentum signals).
-    integrators : tuple of (str, str)
-        The integrator states that were added, each with the signal it
-        integrates (``("x", "displacement[m]")``).  A displacement or
-        momentum whose flow or effort is a constant combination of state
-        derivatives adds none: it is that combination of states (see
-        :mod:`bondgraph.equations.integrators`).
+    The fields (``states``, ``inputs``, ``rhs``, ``output_exprs``, ``descriptor``, ...)
+    are those of the record, :class:`~bondgraph.equations.StateEquations`,
+    documented there once; this class adds the verbs, each calling its stage.
 
     Examples
     --------
