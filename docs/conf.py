@@ -31,6 +31,7 @@ from __future__ import annotations
 
 import importlib
 import inspect
+import types
 import os
 import pkgutil
 import sys
@@ -194,6 +195,12 @@ def _module_page(name: str, mod: object, homes: dict[tuple[int, str], str]) -> s
             home = homes[(id(obj), member)]
             target = f"{home}.{member}"
             if home == name:
+                if isinstance(obj, types.GenericAlias):
+                    # a type alias (``tuple[float, float]``) is callable: autodata would try
+                    # to format its signature and fail
+                    bodies.append(f".. py:data:: {target}\n\n   Type alias of ``{obj}``.\n\n")
+                    rows.append(f"   * - :py:obj:`~{target}`\n     - Type alias of ``{obj}``.\n")
+                    continue
                 options = "   :no-value:\n" if _directive(obj) == "autodata" and not isinstance(
                     obj, (int, float, str, tuple)) else ""
                 bodies.append(f".. {_directive(obj)}:: {target}\n{options}\n")
