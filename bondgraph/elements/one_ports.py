@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Callable, ClassVar, Optional, Sequence, Union,
 import sympy
 
 from ..errors import LawError, ParameterError
+from .inverse import closed_form_inverse
 from .protocol import (ARBITRARY, DERIVATIVE, INTEGRAL, RESISTIVE, STORAGE, CausalPorts, Choice,
                        Decision, Element, LocalVariables, prefix_signals, rename, signals_of)
 from .._support.sympify import ParameterLike, nonzero, to_expr
@@ -355,18 +356,23 @@ class OnePort(_OneBond):
         return None
 
     def _invert(self, expr, var, new_var, name) -> sympy.Expr:
-        """Invert one scalar law ``new_var = expr(var)`` with ``sympy.solve``.
+        """Invert one scalar law ``new_var = expr(var)`` (see :mod:`.inverse`).
 
         Only this element's own equation is solved, and only when exactly one
         solution exists; otherwise the user is asked for the inverse law.
         """
         try:
-            sols = sympy.solve(sympy.Eq(expr, new_var), var, dict=False)
+            sols = closed_form_inverse(expr, var, new_var)
         except (NotImplementedError, ValueError, TypeError) as exc:
             raise LawError(
                 f"{self.label()}: its causality needs the inverse of the {name} law {expr}, "
                 f"which sympy cannot solve for {var} ({str(exc).strip()}); pass the inverse law "
                 "explicitly (inverse=...)") from exc
+        if sols is None:
+            raise LawError(
+                f"{self.label()}: its causality needs the inverse of the {name} law {expr}, "
+                f"which has no closed form ({var} inside a transcendental function beside "
+                "a float); pass the inverse law explicitly (inverse=...)")
         if len(sols) != 1:
             raise LawError(
                 f"{self.label()}: its causality needs the inverse of the {name} law "

@@ -64,6 +64,29 @@ def derive_equations(graph: Union[BondGraph, AugmentedBondGraph], outputs: Outpu
     with the same fields (:func:`bondgraph.derive` builds a
     :class:`bondgraph.Model`, the record with its verbs).
 
+    Parameters
+    ----------
+    graph : BondGraph or AugmentedBondGraph
+        Causality is assigned (by SCAP) when a plain graph is given.
+    outputs : mapping of str to expression, optional
+        Named outputs: expressions of signals such as ``bg.flow("J")``.
+    record : type
+        The class of the result: :class:`StateEquations` or a subclass.
+
+    Returns
+    -------
+    StateEquations
+        States, inputs, ``rhs`` (x' = f(x, u)), outputs, the descriptor form
+        when derivative causality is present, and the algebraic unknowns and
+        residuals of laws and loops kept implicit.
+
+    Raises
+    ------
+    OutputError
+        An output names no element or bond, or is not an expression.
+    AlgebraicLoopError
+        A singular loop, or storage in derivative causality through a loop.
+
     Examples
     --------
     >>> from bondgraph import examples

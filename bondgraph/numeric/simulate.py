@@ -21,10 +21,9 @@ Examples
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field, fields
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any, Callable, Mapping, Optional, Sequence, Union
+from typing import TYPE_CHECKING, Any, Mapping, Optional, Sequence, Union
 
 import numpy as np
 import sympy
@@ -33,12 +32,14 @@ from sympy.core.function import AppliedUndef
 from ..errors import BondGraphError
 from ..equations import StateEquations
 from ..signals import t as T_SYM
-from ._compile import CallbackFailure, CompiledFunction, guard_user_functions, placeholders, real_array
+from ._compile import CallbackFailure, CompiledFunction, guard_user_functions, placeholders
 from ._linalg import freeze
 from ._field_values import check_fields_at
 from ._stiffness import check_stiffness
 from .errors import NumericError, SimulationError
 from .resolve import ParameterValues, resolve_parameters
+from . import arguments
+from .arguments import METHODS, InputSpec
 from .implicit import with_algebraic
 from .plant import _CompiledModel, control_labels
 
@@ -47,20 +48,6 @@ if TYPE_CHECKING:  # imported lazily at run time
 
 __all__ = ["NumericDynamics", "compile_dynamics", "SimulationResult", "simulate", "METHODS",
            "to_nonlinear_iosys", "InputSpec"]
-
-#: ``u`` for :func:`simulate`: None, constants, a callable of t, or ``(t_samples, u_samples)``
-InputSpec = Union[None, float, Sequence[float], np.ndarray, Callable[[float], Any],
-                  tuple[np.ndarray, np.ndarray]]
-
-
-def _short(value: Any) -> str:
-    """``value`` for a message: numbers with ``%g``, anything else by a short repr."""
-    if isinstance(value, (float, np.floating)) or (isinstance(value, (int, np.integer))
-                                                   and not isinstance(value, bool)):
-        return f"{value:g}"
-    text = repr(value)
-    return text if len(text) <= 60 else text[:57] + "..."
-
 
 def _law_owners(model: StateEquations, func: Any) -> str:
     """``"R:Rf: the function sat"``: the elements whose law (or modulus) uses the user function."""
@@ -77,8 +64,8 @@ def _law_owners(model: StateEquations, func: Any) -> str:
 
 def _callback_error(fail: CallbackFailure, model: str, t: Any) -> SimulationError:
     """The package error for a user function that failed (at time ``t``, if known)."""
-    shown = ", ".join(_short(a) for a in fail.args_given)
-    when = f" at t = {_short(t)}" if t is not None else ""
+    shown = ", ".join(arguments.short(a) for a in fail.args_given)
+    when = f" at t = {arguments.short(t)}" if t is not None else ""
     return SimulationError(f"model {model!r}: {fail.what}{when} (called with {shown})")
 
 
@@ -276,200 +263,6 @@ def _rebuild_result(values: dict) -> SimulationResult:
     return SimulationResult(**values)
 
 
-#: the ``method`` names :func:`scipy.integrate.solve_ivp` accepts
-METHODS = ("RK45", "RK23", "DOP853", "Radau", "BDF", "LSODA")
-
-
-def _floats(value: Any, what: str, expected: str) -> np.ndarray:
-    """:func:`~._compile.real_array`, or :class:`NumericError` naming ``what`` and ``expected``."""
-    try:
-        return real_array(value)
-    except (TypeError, ValueError, OverflowError):
-        raise NumericError(f"{what} must be {expected}; got {_short(value)}") from None
-
-
-def _scalar(value: Any, what: str, expected: str) -> float:
-    arr = _floats(value, what, expected)
-    if arr.shape != ():
-        raise NumericError(f"{what} must be {expected}; got an array of shape {arr.shape}")
-    return float(arr)
-
-
-def _nonfinite(arr: np.ndarray) -> int:
-    """Index of the first non-finite entry of a 1-D array, or -1."""
-    bad = np.flatnonzero(~np.isfinite(arr))
-    return int(bad[0]) if bad.size else -1
-
-
-def _vector(value: Any, what: str, names: tuple[str, ...], kind: str, when: str = "") -> np.ndarray:
-    """``value`` as finite floats of shape ``(len(names),)``, one per ``kind`` (a number if one).
-
-    ``when`` (``" (at t = 0.5)"``) ends each message.
-    """
-    n, listed = len(names), ", ".join(names) or "(none)"
-    arr = _floats(value, what, f"{n} finite number(s), one per {kind} {listed}{when}")
-    if arr.shape == () and n == 1:
-        arr = arr.reshape(1)
-    if arr.shape != (n,):
-        raise NumericError(f"{what} must have shape ({n},) for the {kind}s {listed}; "
-                           f"got shape {arr.shape}{when}")
-    k = _nonfinite(arr)
-    if k >= 0:
-        raise NumericError(f"{what} must be finite; {kind} {names[k]} is {arr[k]:g}{when}")
-    return arr
-
-
-def _time_span(t_span: Any) -> tuple[float, float]:
-    """``(t0, t1)``: two finite numbers with ``t0 < t1``."""
-    expected = "two finite numbers (t0, t1) with t0 < t1"
-    if isinstance(t_span, Mapping):
-        raise NumericError(f"t_span must be {expected}; got a {type(t_span).__name__}")
-    arr = _floats(t_span, "t_span", expected)
-    if arr.shape != (2,):
-        raise NumericError(f"t_span must be {expected}; got {arr.size} value(s), shape {arr.shape}")
-    t0, t1 = float(arr[0]), float(arr[1])
-    if not (math.isfinite(t0) and math.isfinite(t1)):
-        raise NumericError(f"t_span must be {expected}; got ({t0:g}, {t1:g}), which is not finite")
-    if not t0 < t1:
-        raise NumericError(f"t_span must be {expected} (simulate integrates forward in time); "
-                           f"got ({t0:g}, {t1:g})")
-    return t0, t1
-
-
-def _eval_times(t_eval: Any, t0: float, t1: float) -> Optional[np.ndarray]:
-    """``t_eval`` checked: finite, strictly increasing, within ``[t0, t1]``."""
-    if t_eval is None:
-        return None
-    expected = f"an increasing sequence of finite times within t_span ({t0:g}, {t1:g})"
-    arr = _floats(t_eval, "t_eval", expected)
-    if arr.ndim == 0:
-        arr = arr.reshape(1)
-    if arr.ndim != 1 or arr.size == 0:
-        raise NumericError(f"t_eval must be {expected}; got shape {arr.shape}")
-    k = _nonfinite(arr)
-    if k >= 0:
-        raise NumericError(f"t_eval must be {expected}; t_eval[{k}] is {arr[k]:g}")
-    outside = np.flatnonzero((arr < t0) | (arr > t1))
-    if outside.size:
-        k = int(outside[0])
-        raise NumericError(f"t_eval must be {expected}; t_eval[{k}] = {float(arr[k])!r} is outside "
-                           f"({outside.size} of the {arr.size} times are)")
-    steps = np.flatnonzero(np.diff(arr) <= 0)
-    if steps.size:
-        k = int(steps[0])
-        raise NumericError(f"t_eval must be {expected} (sorted, no repeats); t_eval[{k + 1}] = "
-                           f"{arr[k + 1]:g} follows t_eval[{k}] = {arr[k]:g}")
-    return arr
-
-
-def _solver(method: Any) -> Any:
-    """A ``solve_ivp`` method name from :data:`METHODS`, or an ``OdeSolver`` subclass."""
-    from scipy.integrate import OdeSolver
-
-    if isinstance(method, type) and issubclass(method, OdeSolver):
-        return method
-    if isinstance(method, str) and method in METHODS:
-        return method
-    hint = ""
-    if isinstance(method, str):
-        close = [m for m in METHODS if m.lower() == method.lower()]
-        hint = f" (did you mean {close[0]!r}?)" if close else ""
-    raise NumericError(f"method must be one of {', '.join(METHODS)}, or a scipy.integrate.OdeSolver "
-                       f"subclass; got {_short(method)}{hint}")
-
-
-def _tolerances(rtol: Any, atol: Any, n: int) -> tuple[float, Union[float, np.ndarray]]:
-    """``rtol`` in (0, 1); ``atol`` > 0, a number or one per state; all finite.
-
-    ``atol = 0`` is refused: a state that stays at 0 then has an error scale
-    of 0, and scipy's step-size control loops forever (RK45) or fails.
-    """
-    r = _scalar(rtol, "rtol", "a finite number with 0 < rtol < 1")
-    if not (math.isfinite(r) and 0.0 < r < 1.0):
-        raise NumericError(f"rtol must be a finite number with 0 < rtol < 1; got {r:g}")
-    expected = f"a finite number > 0, or {n} of them (one per state)"
-    a = _floats(atol, "atol", expected)
-    if a.shape not in ((), (n,)):
-        raise NumericError(f"atol must be {expected}; got shape {a.shape}")
-    if not (np.all(np.isfinite(a)) and np.all(a > 0)):
-        raise NumericError(f"atol must be {expected}; got {_short(atol)}")
-    return r, (float(a) if a.shape == () else a)
-
-
-def _step_limit(max_step: Any, spacing: Optional[float]) -> float:
-    """``max_step`` > 0 (``inf`` allowed); None: the input sample spacing, or ``inf``."""
-    if max_step is None:
-        return spacing if spacing is not None else np.inf
-    value = _scalar(max_step, "max_step", "a number > 0 (or None)")
-    if not value > 0:
-        raise NumericError(f"max_step must be a number > 0 (or None); got {value:g}")
-    return value
-
-
-def _input_function(u: InputSpec, m: int, names: tuple[str, ...]) -> tuple[Callable, Optional[float]]:
-    """(t -> u(t) of shape (m,), smallest sample spacing or None).
-
-    Every input value is checked: shape ``(m,)`` and finite.  A callable
-    ``u`` that raises is reported as :class:`SimulationError` with the time.
-    """
-    listed = ", ".join(names) or "(none)"
-
-    def shaped(value: Any, what: str, when: str = "") -> np.ndarray:
-        return _vector(value, what, names, "input", when)
-
-    if u is None:
-        zero = np.zeros(m)
-        return (lambda t: zero), None
-    if callable(u):
-        def call(t: float) -> np.ndarray:
-            try:
-                value = u(t)
-            except Exception as exc:
-                raise SimulationError(f"the input function u(t) raised {type(exc).__name__} at "
-                                      f"t = {t:g}: {exc}") from exc
-            return shaped(value, "u(t)", f" (at t = {t:g})")
-        return call, None
-    if isinstance(u, tuple) and len(u) == 2 and np.ndim(u[0]) == 1:
-        ts = _floats(u[0], "input sample times", "a sequence of finite times")
-        us = _floats(u[1], "input samples", f"finite numbers, one column per input {listed}")
-        if us.ndim == 1 and m == 1:
-            us = us[:, None]
-        if ts.size < 2 or not np.all(np.isfinite(ts)) or not np.all(np.diff(ts) > 0):
-            raise NumericError("input sample times must be finite, strictly increasing, at least two")
-        if us.shape != (ts.size, m):
-            raise NumericError(
-                f"input samples must have shape ({ts.size}, {m}) for the inputs {listed}; "
-                f"got shape {us.shape}")
-        if not np.all(np.isfinite(us)):
-            row, col = np.argwhere(~np.isfinite(us))[0]
-            raise NumericError(f"input samples must be finite; input {names[col]} is "
-                               f"{us[row, col]:g} at t = {ts[row]:g}")
-        cols = [us[:, j].copy() for j in range(m)]
-
-        def interp(t: float) -> np.ndarray:
-            return np.array([np.interp(t, ts, c) for c in cols])
-        return interp, float(np.min(np.diff(ts)))
-    const = shaped(u, "constant input u")
-    return (lambda t: const), None
-
-
-def _initial_state(x0: Any, names: tuple[str, ...]) -> np.ndarray:
-    """``x0`` as a finite array in the order of ``names`` (by name: the rest start at 0)."""
-    if x0 is None:
-        return np.zeros(len(names))
-    if isinstance(x0, Mapping):
-        keys = [k.name if isinstance(k, sympy.Symbol) else k for k in x0]
-        unknown = sorted(str(k) for k in keys if k not in names)
-        if unknown:
-            raise NumericError(f"x0 names unknown states {', '.join(unknown)}; "
-                               f"the states are {', '.join(names) or '(none)'}")
-        if len(set(keys)) != len(keys):
-            raise NumericError("x0 gives a state twice (as a name and as a Symbol)")
-        given = dict(zip(keys, x0.values()))
-        x0 = [_scalar(given.get(s, 0.0), f"x0[{s!r}]", "a finite number") for s in names]
-    return _vector(x0, "x0", names, "state")
-
-
 def _named(names: tuple[str, ...], values: np.ndarray) -> str:
     return ", ".join(f"{s} = {v:g}" for s, v in zip(names, values))
 
@@ -483,7 +276,7 @@ def _checked_derivatives(dyn: NumericDynamics, t: float, x: np.ndarray, u: np.nd
     and inputs there.
     """
     dx = dyn.derivatives(t, x, u, p)
-    k = _nonfinite(dx)
+    k = arguments.nonfinite(dx)
     if k >= 0:
         others = [dyn.state_names[j] for j in np.flatnonzero(~np.isfinite(dx)) if j != k]
         inputs = f" and inputs {_named(dyn.input_names, u)}" if dyn.input_names else ""
@@ -537,8 +330,10 @@ def simulate(model: Union[StateEquations, NumericDynamics], values: ParameterVal
         Initial state in the order of ``state_names``, or by name (states not
         named start at 0).  Finite.  Default: zeros.
     u : optional
-        The inputs: None (all zero); a constant vector of length ``m`` (a
-        number if ``m == 1``); a callable ``u(t)`` returning such a vector; or
+        The inputs: None (all zero); a mapping of input names to numbers or
+        functions of time (inputs not named are 0); a constant vector of
+        length ``m`` (a number if ``m == 1``); a callable ``u(t)`` returning
+        such a vector; or
         a pair ``(t_samples, u_samples)`` with ``u_samples`` of shape
         ``(N, m)`` (or ``(N,)`` if ``m == 1``), linearly interpolated and held
         constant outside the samples.  Values must be finite.
@@ -598,13 +393,13 @@ def simulate(model: Union[StateEquations, NumericDynamics], values: ParameterVal
     p = dyn.parameter_vector(values)
     check_fields_at(dyn.model, values, dyn.parameter_names, p.tolist())   # as plant() does
     m = len(dyn.input_names)
-    t0, t1 = _time_span(t_span)
-    x_init = _initial_state(x0, dyn.state_names)
-    ufun, spacing = _input_function(u, m, dyn.input_names)
-    times = _eval_times(t_eval, t0, t1)
-    solver = _solver(method)
-    r_tol, a_tol = _tolerances(rtol, atol, len(dyn.state_names))
-    step = _step_limit(max_step, spacing)
+    t0, t1 = arguments.time_span(t_span)
+    x_init = arguments.initial_state(x0, dyn.state_names)
+    ufun, spacing = arguments.input_function(u, m, dyn.input_names)
+    times = arguments.eval_times(t_eval, t0, t1)
+    solver = arguments.solver(method)
+    r_tol, a_tol = arguments.tolerances(rtol, atol, len(dyn.state_names))
+    step = arguments.step_limit(max_step, spacing)
     ufun(t0)  # check the input's shape before integrating
     label = solver if isinstance(solver, str) else solver.__name__
     context = f"the {label} solver failed: "

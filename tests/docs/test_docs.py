@@ -96,12 +96,13 @@ def test_site_builds(tmp_path):
     assert proc.returncode == 0, f"sphinx-build failed:\n{proc.stdout[-4000:]}\n{proc.stderr[-8000:]}"
     print(f"documentation site built in {seconds:.1f} s")
 
-    # the API reference: BondGraph and derive documented once, at their home modules, with the
+    # the API reference: BondGraph and derive_equations documented once, at their home modules, with the
     # numpydoc sections rendered; the top-level page links every name of bondgraph.__all__
     graph = (out / "api" / "generated" / "bondgraph.graph.html").read_text(encoding="utf-8")
     assert 'id="bondgraph.graph.BondGraph"' in graph
-    equations = (out / "api" / "generated" / "bondgraph.equations.html").read_text(encoding="utf-8")
-    assert 'id="bondgraph.equations.derive"' in equations
+    equations = (out / "api" / "generated" / "bondgraph.equations.derive.html").read_text(
+        encoding="utf-8")
+    assert 'id="bondgraph.equations.derive.derive_equations"' in equations
     assert "Parameters" in equations and "Examples" in equations
     top = (out / "api" / "generated" / "bondgraph.html").read_text(encoding="utf-8")
     import bondgraph
@@ -110,7 +111,8 @@ def test_site_builds(tmp_path):
         assert name in bondgraph.__all__
         assert re.search(rf'href="[^"]*#bondgraph\.(?:\w+\.)*{name}"', top), name
     for module in ("tf", "numeric", "identification", "codegen", "export", "hamiltonian",
-                   "protocol", "operating", "beam", "fmu", "files", "errors"):
+                   "elements.protocol", "linear.operating", "beam", "fmu", "errors", "hybrid",
+                   "library", "structure", "equations"):
         assert (out / "api" / "generated" / f"bondgraph.{module}.html").is_file(), module
 
     # a notebook page with executed outputs: the SRV-02 hub's printed transfer function and

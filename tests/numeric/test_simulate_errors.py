@@ -250,8 +250,13 @@ def test_good_solver_options_are_accepted(mass):
     ((np.array([0.0, float("inf")]), np.array([0.0, 1.0])), NumericError, ("input sample times",)),
     ((np.array([0.0, 1.0]), np.array([[0.0, 1.0], [1.0, 2.0]])), NumericError,
      ("input samples", "shape (2, 1)")),
+    ({"G": 1.0}, NumericError, ("u names unknown inputs G", "the inputs are F")),
+    ({"F": "x"}, NumericError, ("u['F'] must be a finite number or a function of time",)),
+    ({"F": lambda t: 1 / 0}, SimulationError, ("u['F'] raised ZeroDivisionError", "t = 0")),
+    ({"F": lambda t: float("nan")}, NumericError, ("u(t) must be finite", "input F is nan")),
 ], ids=["shape", "None", "text", "nan", "inf-later", "raises", "nan-const", "long-const", "text-const",
-        "nan-sample", "inf-sample-time", "sample-shape"])
+        "nan-sample", "inf-sample-time", "sample-shape", "named-unknown", "named-text",
+        "named-raises", "named-nan"])
 def test_bad_inputs(msd, u, error, words):
     raises_promptly(error, *words, call=lambda: simulate(msd, MSD_VALUES, (0.0, 1.0), u=u, max_step=0.25))
 
@@ -266,6 +271,15 @@ def test_bad_parameter_values_are_parameter_errors(msd):
     raises_promptly(ParameterValueError, "Rf", call=lambda: simulate(
         msd, {"m": 1.0, "k": 4.0, "Rf": float("nan")}, (0.0, 1.0)))
     raises_promptly(ParameterValueError, "Rf", call=lambda: simulate(msd, {"m": 1.0, "k": 4.0}, (0.0, 1.0)))
+
+
+def test_inputs_by_name(mass):
+    """u={"F": 3.0} and u={"F": lambda t: 3.0*t}: p(1) = 3 and p(1) = 3/2 (Newton: p' = F)."""
+    res = simulate(mass, {"m": 2.0}, (0.0, 1.0), u={"F": 3.0}, t_eval=[1.0])
+    assert res["p_m"][-1] == pytest.approx(3.0, rel=1e-9)
+    res = simulate(mass, {"m": 2.0}, (0.0, 1.0), u={"F": lambda t: 3.0 * t}, t_eval=[1.0],
+                   rtol=1e-10, atol=1e-12)
+    assert res["p_m"][-1] == pytest.approx(1.5, rel=1e-8)
 
 
 # ----------------------------------------------------------------------------- renamed argument
