@@ -18,7 +18,8 @@ from ._compile import real_array
 from .errors import NumericError, SimulationError
 
 __all__ = ["METHODS", "InputSpec", "floats", "scalar", "vector", "time_span", "eval_times", "solver",
-           "tolerances", "step_limit", "input_function", "initial_state", "short"]
+           "tolerances", "step_limit", "input_function", "initial_state", "short",
+           "by_name", "named_inputs"]
 
 #: ``u`` for :func:`~bondgraph.numeric.simulate.simulate`: None, constants, a mapping of input
 #: names to numbers or functions of t, a callable of t, or ``(t_samples, u_samples)``
@@ -213,16 +214,21 @@ def input_function(u: InputSpec, m: int, names: tuple[str, ...]) -> tuple[Callab
     return (lambda t: const), None
 
 
-def named_inputs(u: Mapping, names: tuple[str, ...], shaped: Callable) -> Callable:
-    """``{name: number or callable of t}`` as ``t -> u(t)`` (inputs not named are 0)."""
-    keys = [k.name if isinstance(k, sympy.Symbol) else k for k in u]
+def by_name(values: Mapping, names: tuple[str, ...], what: str, kind: str) -> dict:
+    """``values`` keyed by name (str or Symbol), every key one of ``names``."""
+    keys = [k.name if isinstance(k, sympy.Symbol) else k for k in values]
     unknown = sorted(str(k) for k in keys if k not in names)
     if unknown:
-        raise NumericError(f"u names unknown inputs {', '.join(unknown)}; "
-                           f"the inputs are {', '.join(names) or '(none)'}")
+        raise NumericError(f"{what} names unknown {kind}s {', '.join(unknown)}; "
+                           f"the {kind}s are {', '.join(names) or '(none)'}")
     if len(set(keys)) != len(keys):
-        raise NumericError("u gives an input twice (as a name and as a Symbol)")
-    given = dict(zip(keys, u.values()))
+        raise NumericError(f"{what} gives a {kind} twice (as a name and as a Symbol)")
+    return dict(zip(keys, values.values()))
+
+
+def named_inputs(u: Mapping, names: tuple[str, ...], shaped: Callable) -> Callable:
+    """``{name: number or callable of t}`` as ``t -> u(t)`` (inputs not named are 0)."""
+    given = by_name(u, names, "u", "input")
     parts = [given.get(n, 0.0) for n in names]
     for n, part in zip(names, parts):
         if not callable(part):
@@ -248,13 +254,6 @@ def initial_state(x0: Any, names: tuple[str, ...]) -> np.ndarray:
     if x0 is None:
         return np.zeros(len(names))
     if isinstance(x0, Mapping):
-        keys = [k.name if isinstance(k, sympy.Symbol) else k for k in x0]
-        unknown = sorted(str(k) for k in keys if k not in names)
-        if unknown:
-            raise NumericError(f"x0 names unknown states {', '.join(unknown)}; "
-                               f"the states are {', '.join(names) or '(none)'}")
-        if len(set(keys)) != len(keys):
-            raise NumericError("x0 gives a state twice (as a name and as a Symbol)")
-        given = dict(zip(keys, x0.values()))
+        given = by_name(x0, names, "x0", "state")
         x0 = [scalar(given.get(s, 0.0), f"x0[{s!r}]", "a finite number") for s in names]
     return vector(x0, "x0", names, "state")
