@@ -261,7 +261,7 @@ class Model(StateEquations):
         if isinstance(x0, Equilibrium) or values is not None:
             if values is None:
                 values = dict(x0.values)
-            return linear_plant(self, x0, u0, values, tol=max(tol, 1e-9))
+            return linear_plant(self, x0, u0, values, tol=max(tol, 1e-9), equilibrium=equilibrium)
         return linear.linearize(self, x0, u0, equilibrium=equilibrium, tol=tol)
 
     # ----------------------------------------------------------------- energy

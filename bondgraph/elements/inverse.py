@@ -12,7 +12,12 @@ return for minutes.  So:
 2. otherwise ``sympy.solve``, unless the variable sits inside a transcendental
    function and the law holds a float: that combination has no closed form
    worth minutes (``0.57 f + 0.73 tanh(f/0.73)``) and is refused at once, so the
-   derivation keeps the law as an implicit equation (solved numerically).
+   derivation keeps the law as an implicit equation (solved numerically);
+3. every candidate is checked: applied to the law's value at probes of both
+   signs it must give the probe back.  ``sympy.solve`` inverts the orifice
+   ``sign(e) sqrt|e|`` as ``e = f**2``, which is wrong for negative flows; such a
+   candidate is dropped (the law is then kept implicit, or a real branch
+   among several is kept when it is the only one that holds).
 
 Examples
 --------
@@ -21,6 +26,8 @@ Examples
 >>> closed_form_inverse(2 * sympy.sinh(f / 0.7304), f, e)
 [0.7304*asinh(e/2)]
 >>> closed_form_inverse(0.5689 * f + 0.7251 * sympy.tanh(f / 0.7304), f, e) is None
+True
+>>> closed_form_inverse(sympy.sign(f) * sympy.sqrt(abs(f)), f, e) is None    # not e**2
 True
 """
 
@@ -78,7 +85,46 @@ def closed_form_inverse(expr: sympy.Expr, var: sympy.Symbol, new_var: sympy.Symb
     if expr.count(var) == 1:
         sols = _unwound(expr, var, new_var)
         if sols is not None:
-            return sols
+            sols = [c for c in sols if _valid(expr, var, c, new_var)]
+            if sols:
+                return sols
     if _hopeless(expr, var):
         return None
-    return list(sympy.solve(sympy.Eq(expr, new_var), var, dict=False))
+    sols = list(sympy.solve(sympy.Eq(expr, new_var), var, dict=False))
+    if len(sols) > 1:
+        # several branches: keep the real ones that invert the law wherever it is real
+        sols = [c for c in sols if not c.has(sympy.I)]
+    sols = [c for c in sols if _valid(expr, var, c, new_var)]
+    return sols or None
+
+
+#: values of the law's variable at which a candidate inverse is checked, both signs
+_PROBES = (-1.7, -0.45, -0.02, 0.03, 0.3, 1.3, 4.1)
+
+
+def _valid(expr: sympy.Expr, var: sympy.Symbol, candidate: sympy.Expr,
+           new_var: sympy.Symbol) -> bool:
+    """``candidate(expr(v)) == v`` at every probe ``v`` where the law is real and finite,
+    with the other symbols at positive values.  ``sympy.solve`` answers
+    ``sign(e) sqrt|e| = f`` with ``e = f**2``, true for ``f >= 0`` only: the probes
+    at negative values refuse it."""
+    others = sorted((expr.free_symbols | candidate.free_symbols) - {var, new_var},
+                    key=lambda x: x.name)
+    at = {p: sympy.Float(0.7 + 0.37 * k) for k, p in enumerate(others)}
+    law, inv = expr.xreplace(at), candidate.xreplace(at)
+    checked = 0
+    for v in _PROBES:
+        try:
+            y = complex(law.xreplace({var: sympy.Float(v)}).evalf(30))
+        except (TypeError, ValueError, ZeroDivisionError):
+            continue
+        if not (abs(y.imag) <= 1e-12 * max(1.0, abs(y.real)) and abs(y.real) < 1e12):
+            continue
+        try:
+            back = complex(inv.xreplace({new_var: sympy.Float(y.real)}).evalf(30))
+        except (TypeError, ValueError, ZeroDivisionError):
+            return False
+        if abs(back - v) > 1e-9 * max(1.0, abs(v)):
+            return False
+        checked += 1
+    return checked > 0

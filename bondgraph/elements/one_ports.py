@@ -371,8 +371,8 @@ class OnePort(_OneBond):
         if sols is None:
             raise LawError(
                 f"{self.label()}: its causality needs the inverse of the {name} law {expr}, "
-                f"which has no closed form ({var} inside a transcendental function beside "
-                "a float); pass the inverse law explicitly (inverse=...)")
+                f"for which sympy finds no closed form valid for both signs of {var}; pass "
+                "the inverse law explicitly (inverse=...)")
         if len(sols) != 1:
             raise LawError(
                 f"{self.label()}: its causality needs the inverse of the {name} law "

@@ -31,11 +31,9 @@ True
 from __future__ import annotations
 
 import math
-import warnings
 from typing import TYPE_CHECKING, Mapping, Optional
 
 import numpy as np
-import sympy
 
 from ..parameters import ParameterValues, match_values, real_value
 from ..signals import t as T_SYM
@@ -65,6 +63,9 @@ def implicit_equilibrium(model: "Model", values: ParameterValues, inputs: Option
     """``f(x, z, u) = 0``, ``g(x, z, u) = 0`` for the free states and ``z`` (see
     :func:`bondgraph.linear.equilibrium`; ``guess`` may also name algebraic unknowns).
 
+    The two are solved as one system with the explicit trim's search; the
+    stability verdict comes from the eigenvalues of ``A = f_x - f_z g_z^-1 g_x``.
+
     Raises
     ------
     EquilibriumError
@@ -78,50 +79,69 @@ def implicit_equilibrium(model: "Model", values: ParameterValues, inputs: Option
             raise EquilibriumError(f"{where}the equations depend on "
                                    f"{', '.join(sorted(map(str, ex.free_symbols & bad)))}; "
                                    "an equilibrium needs a time-invariant model")
+    from . import trim as _trim
+
+    tol = _trim.check_tol(tol, where, EquilibriumError)
     params = match_values(model.parameters, values, known=model.known_parameters, where=where)
     pvals = {p: real_value(v, p.name, where) for p, v in params.items()}
     u0 = {u: 0.0 for u in model.inputs}
     u0.update(_named(model, inputs, model.inputs, "input"))
     held = _named(model, fixed, model.states, "fixed state")
     start = _named(model, guess, model.states + model.algebraic, "guess state or algebraic unknown")
-    free = [x for x in model.states if x not in held] + list(model.algebraic)
-    known = {**pvals, **u0, **held}
-    eqs = [ex.xreplace(known) for ex in model.rhs + model.residuals]
-    f = sympy.lambdify([free], eqs, modules="numpy")
-    jac = sympy.lambdify([free], sympy.Matrix(eqs).jacobian(free).replace(     # DiracDelta: 0 off
-        sympy.DiracDelta, lambda *a: sympy.S.Zero), modules="numpy")             # the jump
-
-    def fun(v):
-        return np.asarray(f(v), dtype=float)
-
-    x_start = np.array([start.get(x, 0.0) for x in free])
-    from scipy.optimize import root
-
-    with warnings.catch_warnings(), np.errstate(all="ignore"):
-        warnings.simplefilter("ignore", RuntimeWarning)
-        sol = root(fun, x_start, jac=lambda v: np.asarray(jac(v), dtype=float), tol=tol * 1e-2)
-        solution = np.asarray(sol.x, dtype=float)
-        res = fun(solution)
-    residual = float(np.max(np.abs(res))) if res.size else 0.0
-    if not np.all(np.isfinite(solution)) or not math.isfinite(residual) or residual > tol:
+    unknowns = list(model.states) + list(model.algebraic)
+    eqs = [ex.xreplace(pvals) for ex in model.rhs + model.residuals]
+    _trim.check_finite_equations(model, eqs, pvals, where)
+    ins = list(model.inputs)
+    # f = 0 and g = 0 as one square system in (x, z): the explicit trim's search (scaled
+    # residuals, both methods, the homotopy in the inputs, starts over the natural scales)
+    system = _trim.Equations(eqs, unknowns, ins, [u0[u] for u in ins], where)
+    free_idx = [i for i, x in enumerate(unknowns) if x not in held]
+    free = [unknowns[i] for i in free_idx]
+    x_start = np.array([held.get(x, start.get(x, 0.0)) for x in unknowns], dtype=float)
+    found, how, tried, failure = _trim.solve(system, x_start, free_idx, tol)
+    if found is None:
+        text = (f"{where}no equilibrium found from the guess "
+                f"({', '.join(f'{x.name}={v:g}' for x, v in zip(unknowns, x_start))})")
+        if failure is not None:
+            text += (f": closest point {', '.join(f'{x.name}={v:.6g}' for x, v in zip(unknowns, failure.x))}"
+                     f" (scaled residual of f and g {failure.scaled_residual:.3g} > tol={tol:g})")
         raise EquilibriumError(
-            f"{where}no equilibrium found from the guess "
-            f"({', '.join(f'{x.name}={v:g}' for x, v in zip(free, x_start))}): the residual "
-            f"max|f, g| reached {residual:.3g} > tol={tol:g}; give another guess= (states and "
-            f"the algebraic unknowns {', '.join(model.algebraic_names)})")
-    J = np.asarray(jac(solution), dtype=float)
-    if J.size and np.linalg.matrix_rank(J, tol=1e-9 * max(1.0, np.abs(J).max())) < len(free):
+            text + f"; methods tried: {'; '.join(tried)}. Give another guess= (states and the "
+            f"algebraic unknowns {', '.join(model.algebraic_names)})")
+    n = len(model.states)
+    kw = dict(how=how + " (f = 0 and g = 0 together)", scaled_residual=found.scaled_residual,
+              algebraic={z.name: float(v) for z, v in zip(model.algebraic, found.x[n:])})
+    states = {x.name: float(v) for x, v in zip(model.states, found.x[:n])}
+    inputs_out = {u.name: float(v) for u, v in u0.items()}
+    named_values = {p.name: v for p, v in pvals.items()}
+    if not system.differentiable_at(found.x):
+        kw["how"] += ("; the Jacobian is not finite at this point (a law with an infinite slope "
+                      "there): its isolation and stability are not decided")
+        return Equilibrium(states, inputs_out, named_values, found.max_residual, "numeric",
+                           condition=math.inf, jacobian="not finite at the point", **kw)
+    if found.singular:
         raise EquilibriumError(
-            f"{where}the equilibrium is not isolated: the Jacobian of f and g is singular "
-            f"there, so {', '.join(_undetermined(J, free))} can take any value; hold such "
-            "states with fixed={...}")
-    at = dict(zip(free, solution.tolist()))
-    states = {x.name: float(held[x]) if x in held else float(at[x]) for x in model.states}
-    return Equilibrium(states, {u.name: float(v) for u, v in u0.items()},
-                       {p.name: v for p, v in pvals.items()}, residual, "numeric",
-                       how="scipy.optimize.root (hybr) on f = 0 and g = 0 together, analytic "
-                           "Jacobian, from the guess",
-                       algebraic={z.name: float(at[z]) for z in model.algebraic})
+            f"{where}the equilibrium is not isolated (or a law has zero slope there, such as "
+            f"f|f| at f = 0): the Jacobian of f and g is singular there, so "
+            f"{', '.join(_undetermined(found.jacobian, free))} are not determined to first "
+            "order; hold states that can take any value with fixed={...}")
+    eig, verdict = _reduced_stability(system.jac(found.x), n)
+    return Equilibrium(states, inputs_out, named_values, found.max_residual, "numeric",
+                       condition=found.condition, jacobian=system.jacobian_kind,
+                       eigenvalues=eig, stability=verdict, **kw)
+
+
+def _reduced_stability(J: np.ndarray, n: int) -> tuple[tuple[complex, ...], str]:
+    """Eigenvalues of ``A = f_x - f_z g_z^-1 g_x`` (the implicit-function theorem) from the
+    Jacobian of ``(f, g)`` in ``(x, z)``, and the verdict of
+    :func:`bondgraph.linear.trim.stability_of`."""
+    from .trim import stability_of
+
+    fx, fz, gx, gz = J[:n, :n], J[:n, n:], J[n:, :n], J[n:, n:]
+    if not np.all(np.isfinite(J)) or (gz.size and np.linalg.matrix_rank(gz) < gz.shape[0]):
+        return (), "unknown"
+    A = fx - fz @ np.linalg.solve(gz, gx) if gz.size else fx
+    return stability_of(A)
 
 
 def _undetermined(J: np.ndarray, free) -> list[str]:

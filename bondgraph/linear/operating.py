@@ -29,7 +29,6 @@ spring stretches ``m g c``.
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Mapping, Optional
@@ -253,9 +252,11 @@ def equilibrium(model: "Model", values: ParameterValues, inputs: Optional[Mappin
         loose = [x.name for x, c in zip(free, found.null) if abs(c) > 1e-6] or \
             [x.name for x in free]
         raise EquilibriumError(
-            f"{where}the equilibrium is not isolated: the Jacobian of the state equations is "
+            f"{where}the equilibrium is not isolated (or a law has zero slope there, such as "
+            f"f|f| at f = 0): the Jacobian of the state equations is "
             f"singular there (condition number {found.condition:.3g} after scaling), so "
-            f"{', '.join(loose)} can take any value; hold such states with fixed={{...}}")
+            f"{', '.join(loose)} are not determined to first order; hold states that can "
+            "take any value with fixed={...}")
     eig, verdict = _trim.stability(system, found.x)
     jac_kind = ("finite differences" if system.jacobian_kind != "symbolic" else
                 "symbolic" + (" (finite differences where it is not finite)"

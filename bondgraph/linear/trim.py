@@ -297,6 +297,20 @@ class Assessment:
         return float(np.max(np.abs(self.residual))) if self.residual.size else 0.0
 
 
+def _max_scaled_condition(J: np.ndarray) -> float:
+    """Condition number of ``J`` with its rows, then its columns, divided by their largest
+    magnitude (independent of units, like :func:`equilibrate`)."""
+    A = np.array(J, dtype=float)
+    row = np.max(np.abs(A), axis=1, keepdims=True)
+    A = A / np.where(row > 0, row, 1.0)
+    col = np.max(np.abs(A), axis=0, keepdims=True)
+    A = A / np.where(col > 0, col, 1.0)
+    sv = np.linalg.svd(A, compute_uv=False)
+    if not sv.size or len(sv) < A.shape[1] or sv[-1] == 0:
+        return math.inf
+    return float(sv[0] / sv[-1])
+
+
 def assess(eqs: Equations, x_full: np.ndarray, free_idx: Sequence[int]) -> Assessment:
     """The residual, its scales, the conditioning and isolation of ``x_full``."""
     f = eqs(x_full)
@@ -317,6 +331,13 @@ def assess(eqs: Equations, x_full: np.ndarray, free_idx: Sequence[int]) -> Asses
         smin = sv[-1] if len(sv) >= S.shape[1] else 0.0
         condition = math.inf if smin == 0 else float(smax / smin)
         singular = bool(smax == 0 or smin <= SINGULAR * smax)
+        if singular:
+            # Curtis-Reid lifts every nonzero entry towards 1, rounding noise included (a
+            # 1e-14 left by a cancellation inside an entry); a second unit-free scaling,
+            # by the largest entry of each row then column, ignores such noise: the point
+            # is singular only when both say so
+            condition = min(condition, _max_scaled_condition(Jf))
+            singular = bool(condition == math.inf or 1.0 / condition <= SINGULAR)
         null = np.linalg.svd(S)[2][-1] if singular else np.zeros(S.shape[1])
     else:
         condition, singular, null = 1.0, False, np.zeros(0)
@@ -469,7 +490,11 @@ def stability(eqs: Equations, x_full: np.ndarray) -> tuple[tuple[complex, ...], 
     """Eigenvalues of ``df/dx`` (all states) and ``"stable"``, ``"unstable"`` or ``"marginal"``
     (an eigenvalue on the imaginary axis within 1e-9 of the largest; linearization decides
     nothing then)."""
-    J = eqs.jac(x_full)
+    return stability_of(eqs.jac(x_full))
+
+
+def stability_of(J: np.ndarray) -> tuple[tuple[complex, ...], str]:
+    """:func:`stability` of a Jacobian matrix ``J`` (balanced before its eigenvalues)."""
     if not J.size:
         return (), "stable"
     if not np.all(np.isfinite(J)):
@@ -490,15 +515,19 @@ def stability(eqs: Equations, x_full: np.ndarray) -> tuple[tuple[complex, ...], 
 
 
 def exact_budget(nums: Sequence[sympy.Expr], free: Sequence[sympy.Symbol]) -> bool:
-    """Whether sympy's exact solver is worth trying (Bezout number within the budget)."""
-    bezout = 1
+    """Whether sympy's exact solver is worth trying: a Bezout number within the budget and
+    at most one equation of degree above 1.  Two quadratics with the long rationals of
+    float parameters already take sympy's Groebner basis 30 s, three cubics minutes (and
+    two cubics came back with no solution at all); the numeric search does them in ms."""
+    bezout, nonlinear = 1, 0
     for n in nums:
         try:
             deg = sympy.Poly(n, *free).total_degree()
         except (sympy.PolynomialError, sympy.GeneratorsNeeded):
             return False
         bezout *= max(1, deg)
-        if bezout > EXACT_MAX_DEGREE:
+        nonlinear += deg > 1
+        if bezout > EXACT_MAX_DEGREE or nonlinear > 1:
             return False
     return True
 

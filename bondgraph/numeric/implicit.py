@@ -206,13 +206,16 @@ def with_algebraic(model: StateEquations, params: tuple, f, g) -> tuple:
 
 
 def implicit_plant(model: StateEquations, point: Any, inputs: Optional[Mapping],
-                   values: ParameterValues, tol: float) -> NumericStateSpace:
+                   values: ParameterValues, tol: float, equilibrium: bool = True
+                   ) -> NumericStateSpace:
     """The numeric plant of an implicit model at an operating point (implicit-function theorem).
 
     ``A = f_x - f_z g_z^-1 g_x``, ``B = f_u - f_z g_z^-1 g_u``,
     ``C = h_x - h_z g_z^-1 g_x``, ``D = h_u - h_z g_z^-1 g_u``, all at
     ``(x0, z0, u0)``; ``z0`` comes from the :class:`Equilibrium` or is solved
-    for at ``(x0, u0)``.
+    for at ``(x0, u0)``.  Where a Jacobian is not finite (a law with an infinite
+    slope at the point), central differences of the reduced model instead.  ``equilibrium=False`` accepts a point where
+    ``f(x0, z0, u0) != 0`` (the drift is dropped).
 
     Raises
     ------
@@ -243,13 +246,15 @@ def implicit_plant(model: StateEquations, point: Any, inputs: Optional[Mapping],
     gf = sympy.lambdify([z_syms], g, modules="numpy")
     z_start = np.array([float(z_given.get(z.name, 0.0)) for z in z_syms])
     z0 = _solve_z(gf, gz, z_start)
+    if z0 is None:        # Newton from the start failed (an infinite slope there, sqrt|z|
+        z0 = _search_z(g, z_syms, z_start)   # at 0): the trim's search with its starts
     if z0 is None:
         raise EquilibriumError(f"{where}the algebraic equations have no solution found for "
                                f"{', '.join(model.algebraic_names)} at this point")
     at.update(zip(z_syms, z0.tolist()))
     f0 = np.array([float(r.xreplace(at)) for r in model.rhs])
     scale = max(1.0, max((abs(v) for v in x0.values()), default=1.0))
-    if f0.size and np.max(np.abs(f0)) > tol * scale:
+    if equilibrium and f0.size and np.max(np.abs(f0)) > tol * scale:
         raise EquilibriumError(
             f"{where}the operating point is not an equilibrium at these values: "
             + ", ".join(f"d{s.name}/dt = {v:.3g}" for s, v in zip(model.states, f0)
@@ -263,6 +268,14 @@ def implicit_plant(model: StateEquations, point: Any, inputs: Optional[Mapping],
         return np.array(M.xreplace(at).evalf(), dtype=float).reshape(len(exprs), len(wrt))
     x, u = list(model.states), list(model.inputs)
     Gz = jac(model.residuals, z_syms)
+    parts = [Gz, jac(model.residuals, x), jac(model.residuals, u)]
+    if not all(np.all(np.isfinite(M)) for M in parts):
+        # a law with an infinite slope at the point (an orifice f = K sign(e) sqrt|e| at
+        # e = 0): dz/dx exists only as a limit; central differences of the reduced model
+        A, B, C, D = _reduced_differences(model, pvals, x0, u0, z0)
+        return NumericStateSpace(A, B, C, D, model.state_names, model.input_names,
+                                 model.output_names, {p.name: float(v) for p, v in pvals.items()},
+                                 model.name)
     if np.linalg.matrix_rank(Gz) < len(z_syms):
         raise EquilibriumError(
             f"{where}dg/dz is singular at the operating point: the algebraic unknowns "
@@ -276,6 +289,61 @@ def implicit_plant(model: StateEquations, point: Any, inputs: Optional[Mapping],
     D = jac(model.output_exprs, u) - Hz @ Gu
     return NumericStateSpace(A, B, C, D, model.state_names, model.input_names, model.output_names,
                              {p.name: float(v) for p, v in pvals.items()}, model.name)
+
+
+def _reduced_differences(model: StateEquations, pvals: Mapping, x0: Mapping, u0: Mapping,
+                         z0: np.ndarray) -> tuple[np.ndarray, ...]:
+    """``A, B, C, D`` of ``x' = f(x, z(x, u), u)``, ``y = h(x, z(x, u), u)`` by central
+    differences, ``z(x, u)`` solved from ``g = 0`` at every perturbed point."""
+    x_syms, u_syms, z_syms = list(model.states), list(model.inputs), list(model.algebraic)
+    args = [x_syms, u_syms, z_syms]
+    fh = sympy.lambdify(args, [e.xreplace(pvals) for e in model.rhs + model.output_exprs],
+                        modules="numpy")
+    res = [e.xreplace(pvals) for e in model.residuals]
+    xv = np.array([float(x0[s.name]) for s in x_syms])
+    uv = np.array([float(u0.get(v.name, 0.0)) for v in u_syms])
+
+    def reduced(xx: np.ndarray, uu: np.ndarray) -> np.ndarray:
+        g = [r.xreplace({**dict(zip(x_syms, xx.tolist())), **dict(zip(u_syms, uu.tolist()))})
+             for r in res]
+        gf = sympy.lambdify([z_syms], g, modules="numpy")
+        gz = sympy.lambdify([z_syms], _dirac_free(sympy.Matrix(g).jacobian(z_syms)),
+                            modules="numpy")
+        z = _solve_z(gf, gz, z0)
+        if z is None:
+            z = _search_z(g, z_syms, z0)
+        if z is None:
+            raise EquilibriumError(f"model {model.name!r}: the algebraic equations have no "
+                                   "solution near the operating point (central differences)")
+        with np.errstate(all="ignore"):
+            return np.asarray(fh(xx, uu, z), dtype=float).reshape(-1)
+
+    def columns(v: np.ndarray, which: int) -> np.ndarray:
+        cols = []
+        for i in range(v.size):
+            h = 1e-6 * max(1.0, abs(v[i]))
+            up, dn = v.copy(), v.copy()
+            up[i] += h
+            dn[i] -= h
+            a, b = ((up, uv), (dn, uv)) if which == 0 else ((xv, up), (xv, dn))
+            cols.append((reduced(*a) - reduced(*b)) / (2 * h))
+        n_out = len(model.rhs) + len(model.output_exprs)
+        return np.array(cols).T if cols else np.zeros((n_out, 0))
+    n = len(x_syms)
+    X, U = columns(xv, 0), columns(uv, 1)
+    return X[:n], U[:n], X[n:], U[n:]
+
+
+def _search_z(g: list, z_syms: list, start: np.ndarray) -> Optional[np.ndarray]:
+    """``g(z) = 0`` by :func:`bondgraph.linear.trim.solve` (both root methods, the
+    finite-difference Jacobian, starts spread over the unknowns' natural scales)."""
+    from ..linear import trim
+
+    system = trim.Equations(g, z_syms, [], [])
+    found = trim.solve(system, start, list(range(len(z_syms))), 1e-12, homotopy=False)[0]
+    if found is None or found.max_residual > 1e-9:
+        return None
+    return np.asarray(found.x, dtype=float)
 
 
 def _solve_z(gf, gz, start: np.ndarray) -> Optional[np.ndarray]:

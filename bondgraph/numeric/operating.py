@@ -33,10 +33,14 @@ __all__ = ["linear_plant"]
 
 
 def linear_plant(model: StateEquations, point: Equilibrium | Mapping, inputs: Optional[Mapping],
-                 values: ParameterValues, tol: float) -> Any:
-    """Numeric plant of ``model`` linearized at ``point`` (see :meth:`Model.linearize`)."""
+                 values: ParameterValues, tol: float, equilibrium: bool = True) -> Any:
+    """Numeric plant of ``model`` linearized at ``point`` (see :meth:`Model.linearize`).
+
+    ``equilibrium=False`` linearizes about a point that is not an equilibrium
+    (the drift ``f(x0, u0)`` is dropped) instead of refusing it.
+    """
     if model.algebraic:       # implicit: the implicit-function theorem
-        return implicit_plant(model, point, inputs, values, tol)
+        return implicit_plant(model, point, inputs, values, tol, equilibrium=equilibrium)
     where = f"model {model.name!r}: "
     if isinstance(point, Equilibrium):
         x0, u0 = dict(point.states), dict(point.inputs)
@@ -51,7 +55,7 @@ def linear_plant(model: StateEquations, point: Equilibrium | Mapping, inputs: Op
     f0 = [float(r.xreplace({**{s: sympy.Float(x0[s.name], 17) for s in model.states},
                             **{u: sympy.Float(u0.get(u.name, 0.0), 17) for u in model.inputs},
                             **pvals})) for r in model.rhs]
-    if f0 and max(abs(v) for v in f0) > tol * max(1.0, max(abs(v) for v in x0.values()) if x0 else 1.0) \
+    if equilibrium and f0 and max(abs(v) for v in f0) > tol * max(1.0, max(abs(v) for v in x0.values()) if x0 else 1.0) \
             and not equilibrium_scaled(model, x0, u0, pvals, tol):
         raise EquilibriumError(
             f"{where}the operating point is not an equilibrium at these values: "

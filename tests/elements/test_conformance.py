@@ -43,7 +43,8 @@ BUILT_INS = {
     "RF": (lambda n: bg.RField(n, [[2 * c, c], [c, c]]), {(T, T), (T, F), (F, T), (F, F)}),
     # a law without a closed-form inverse is kept implicit (an algebraic unknown) in the
     # other causality, so both derive
-    "C cubic": (lambda n: bg.C(n, law=k * bg.q + bg.q**3), {(F,)}),   # derivative: refused
+    # derivative causality: q from e by Cardano's real root (the law is monotonic)
+    "C cubic": (lambda n: bg.C(n, law=k * bg.q + bg.q**3), {(T,), (F,)}),
     "R tanh": (lambda n: bg.R(n, law=c * sympy.tanh(bg.f)), {(T,), (F,)}),
 }
 

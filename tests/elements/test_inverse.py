@@ -26,6 +26,8 @@ LAWS = [
     (1.2 * sympy.atan(f / 0.3), [-1.5, 0.4, 1.8]),
     (0.3 * f**3, [-2.0, 0.01, 9.0]),
     (sympy.log(f / 0.2), [-3.0, 0.0, 2.0]),
+    (f + f**3, [-30.0, -0.2, 0.0, 5.0]),          # Cardano's real root, no I
+    (0.7 * f + 0.2 * f**3, [-3.0, 0.5, 40.0]),
 ]
 
 
@@ -33,6 +35,7 @@ LAWS = [
 def test_single_occurrence_laws_have_one_real_inverse(law, points):
     """law(inverse(e)) = e at points inside the law's range (the composition, by floats)."""
     (inv,) = closed_form_inverse(law, f, e)
+    assert not inv.has(sympy.I)
     for x in points:
         val = complex(inv.subs(e, x))
         assert abs(val.imag) < 1e-12
@@ -44,8 +47,39 @@ def test_mixed_transcendental_law_with_floats_is_not_attempted():
 
 
 def test_rational_coefficients_still_reach_sympy_solve():
-    """f*exp(f) = e has the closed form LambertW(e) (no float: sympy.solve is tried)."""
-    assert closed_form_inverse(f * sympy.exp(f), f, e) == [sympy.LambertW(e)]
+    """f + log(f) = e (f > 0) has the closed form LambertW(exp(e)): no float, so
+    sympy.solve is tried; f*exp(f) is not monotonic (LambertW's principal branch inverts
+    it only for f >= -1), so no inverse is returned for it."""
+    assert closed_form_inverse(f + sympy.log(f), f, e) == [sympy.LambertW(sympy.exp(e))]
+    assert closed_form_inverse(f * sympy.exp(f), f, e) is None
+
+
+def test_an_inverse_valid_for_one_sign_only_is_dropped():
+    """sympy.solve inverts the orifice sign(e) sqrt|e| = f as e = f**2, true for f >= 0 only;
+    the quadratic damper f|f| (no closed form from solve) likewise gives no wrong branch."""
+    assert closed_form_inverse(sympy.sign(f) * sympy.sqrt(sympy.Abs(f)), f, e) is None
+    for inv in closed_form_inverse(2 * f * sympy.Abs(f), f, e) or []:
+        for x in (-1.3, 0.8):
+            assert float(2 * inv.subs(e, x) * abs(inv.subs(e, x))) == pytest.approx(x)
+
+
+def test_pure_orifice_is_right_for_both_signs_of_the_flow():
+    """Se E, a mass m and an orifice f = K sign(e) sqrt|e| on one 1-junction: the orifice
+    gets the flow, so its effort e = (f/K)^2 sign(f) opposes the motion for both signs.
+    Newton: p' = E - e(p/m); at E = 0 from p = -1 the mass slows down (p' > 0)."""
+    K = 0.5
+    g = bg.BondGraph("o")
+    j = bg.One("j")
+    g.add(bg.Se("E"), j, bg.I("m"),
+          bg.R("orif", inverse=K * sympy.sign(bg.e) * sympy.sqrt(sympy.Abs(bg.e))))
+    for t, h in [("E", j), (j, "m"), (j, "orif")]:
+        g.connect(t, h)
+    model = bg.derive(g)
+    for p0 in (-1.0, 1.0):
+        res = bg.simulate(model, {"m": 2.0}, (0.0, 1e-6), {"p_m": p0}, u={"E": 0.0},
+                          t_eval=[0.0, 1e-6], rtol=1e-12, atol=1e-14)
+        dp = (res["p_m"][-1] - p0) / 1e-6
+        assert dp == pytest.approx(-math.copysign((p0 / 2.0 / K) ** 2, p0), rel=1e-5)
 
 
 A, B, V, C, Q = 0.5689, 0.7251, 0.7304, 1.7, 0.8

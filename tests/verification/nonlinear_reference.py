@@ -100,6 +100,9 @@ LAWS: dict[tuple[str, str], Callable] = {
 }
 
 
+#: laws the generator gives in one direction only (to the package): the same physics
+ONE_WAY = {"orifice1": "orifice", "quad1": "quad"}
+
 #: derivatives of the R laws in their own variable (by hand)
 SLOPES: dict[str, Callable] = {
     "linear": lambda v, r: r,
@@ -184,15 +187,16 @@ class DAEReference:
                     eq(e[k2] - n * f[k1], {k2: 1.0, B + k1: -n})
             else:
                 (k, s) = mine[0]
-                law = LAWS.get((kind, el.law))
+                name = ONE_WAY.get(el.law, el.law)
+                law = LAWS.get((kind, name))
                 if kind == "I":
                     eq(f[k] - law(x[self._index[el.name]], *P), {B + k: 1.0})
                 elif kind == "C":
                     eq(e[k] - law(x[self._index[el.name]], *P), {k: 1.0})
-                elif kind == "R" and el.law == "orifice":
-                    eq(f[k] - law(e[k], *P), {B + k: 1.0, k: -SLOPES[el.law](e[k], *P)})
+                elif kind == "R" and name == "orifice":
+                    eq(f[k] - law(e[k], *P), {B + k: 1.0, k: -SLOPES[name](e[k], *P)})
                 elif kind == "R":
-                    eq(e[k] - law(f[k], *P), {k: 1.0, B + k: -SLOPES[el.law](f[k], *P)})
+                    eq(e[k] - law(f[k], *P), {k: 1.0, B + k: -SLOPES[name](f[k], *P)})
                 elif kind == "Se":
                     eq(e[k] - (uu[el.name] if el.law == "input" else P[0] - P[1] * q[el.ref]),
                        {k: 1.0})

@@ -15,9 +15,10 @@ import pytest
 from verification import nonlinear as nl
 from verification.nonlinear_reference import DAEReference, NElement, NGraph
 
-#: seeds checked here (each graph is simulated twice, linearized at two points and
-#: trimmed: about a CPU second each)
-CI_SEEDS = range(24)
+#: seeds checked here (each graph is simulated, linearized at two points and trimmed:
+#: about half a CPU second each), in chunks that pytest-xdist spreads over the workers
+CI_SEEDS = range(200)
+CHUNKS = 8
 
 
 def msd(law="linear", params=(2.0,)):
@@ -57,12 +58,16 @@ def test_reference_orifice_written_as_a_flow_law():
     assert found == pytest.approx(e, abs=1e-9)
 
 
-def test_random_nonlinear_graphs_agree_with_the_reference():
-    outcomes = [nl.check(nl.generate(seed), timeout=10.0) for seed in CI_SEEDS]
+@pytest.mark.parametrize("chunk", range(CHUNKS))
+def test_random_nonlinear_graphs_agree_with_the_reference(chunk):
+    seeds = CI_SEEDS[chunk::CHUNKS]
+    outcomes = [nl.check(nl.generate(seed), timeout=10.0) for seed in seeds]
     by_class = {c: [o.seed for o in outcomes if o.cls == c] for c in nl.CLASSES}
-    details = {o.seed: o.detail for o in outcomes if o.cls in ("wrong", "crash")}
+    details = {o.seed: o.detail for o in outcomes if o.cls in ("wrong", "crash", "timeout",
+                                                                  "no-equilibrium-found")}
     assert not by_class["wrong"] and not by_class["crash"], details
-    assert len(by_class["agree"]) >= len(CI_SEEDS) // 2, by_class
+    # seeds 0..199 at the time of writing: 194 agree, 2 refused, 4 derivative causality
+    assert len(by_class["agree"]) >= 0.85 * len(seeds), by_class
     # the comparisons actually ran: trajectories, Jacobians, equilibria
     checks = [o.checks for o in outcomes if o.cls == "agree" and o.checks]   # {}: no states
     assert sum("trajectory" in c for c in checks) == len(checks)
