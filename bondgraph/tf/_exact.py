@@ -94,10 +94,21 @@ def _domain_gens(P: sp.Poly) -> tuple[sp.Expr, ...]:
 
 
 def _value_map(gens: Sequence[sp.Expr], values: Mapping | None,
-               known: Sequence[str] = ()) -> dict:
-    """Exact value of each domain generator, by the package's parameter policy."""
+               known: Sequence[str] = (), used: set | None = None) -> dict:
+    """Exact value of each domain generator, by the package's parameter policy.
+
+    ``used``: the symbols the polynomials hold.  A generator left in the domain
+    after cancellation (``Poly(1, s, domain='ZZ[J2]')``) holds none of them: it
+    needs no value (one given is accepted, as for any parameter the model knows)
+    and gets 1.
+    """
+    idle = [g for g in gens if used is not None and not (g.free_symbols & used)]
+    gens = [g for g in gens if g not in idle]
     params = sorted(set().union(*(g.free_symbols for g in gens)) if gens else set(),
                     key=lambda x: x.name)
-    given = match_values(params, values, known=known)
-    exact = {p: exact_value(v, p.name) for p, v in given.items()}
-    return {g: _to_fraction(g.xreplace(exact), g) for g in gens}
+    idle_names = tuple(sorted({x.name for g in idle for x in g.free_symbols}))
+    given = match_values(params, values, known=tuple(known) + idle_names)
+    exact = {p: exact_value(v, p.name) for p, v in given.items() if p in set(params)}
+    out = {g: _to_fraction(g.xreplace(exact), g) for g in gens}
+    out.update({g: Fraction(1) for g in idle})
+    return out

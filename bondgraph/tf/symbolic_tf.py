@@ -209,7 +209,8 @@ class SymbolicTF:
             return replace(self, num=sp.Poly(self.num.as_expr().xreplace(exact), self.s),
                            den=sp.Poly(self.den.as_expr().xreplace(exact), self.s))
         gens = tuple(dict.fromkeys(_domain_gens(self.num) + _domain_gens(self.den)))
-        vm = _value_map(gens, values, self.known_parameters)
+        used = self.num.as_expr().free_symbols | self.den.as_expr().free_symbols
+        vm = _value_map(gens, values, self.known_parameters, used=used)
         for element in self.value_checks:       # a field positive definite at these values
             element.check_values(values or {})
         return NumericTF(tuple(_poly_values(self.num, gens, vm)),
