@@ -22,7 +22,6 @@ import argparse
 import collections
 import json
 import multiprocessing as mp
-import os
 import statistics
 import sys
 import time

@@ -11,7 +11,6 @@ or a message, regenerate the page::
 from __future__ import annotations
 
 import json
-import re
 import sys
 from dataclasses import dataclass
 from pathlib import Path

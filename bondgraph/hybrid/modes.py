@@ -41,7 +41,6 @@ from ..errors import AlgebraicLoopError, CausalityError, OutputError
 from ..flatten import FlatGraph, flatten
 from ..graph import BondGraph
 from ..model import Model
-from ..signals import Signal
 from .elements import SwitchElement, gate_signals
 from .errors import ModeError
 

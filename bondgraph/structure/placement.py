@@ -40,7 +40,6 @@ import scipy.optimize
 
 from ..model import Model
 from ._generic import StructureError
-from .zeros import zero_structure
 
 __all__ = ["SensorPlacement", "sensor_placement", "PositionSweep", "position_sweep"]
 

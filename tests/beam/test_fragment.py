@@ -2,7 +2,6 @@
 
 import numpy as np
 import pytest
-import sympy
 
 import bondgraph as bg
 from bondgraph.beam import hub_beam_modes, modal_beam

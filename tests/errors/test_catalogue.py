@@ -12,7 +12,6 @@ import pytest
 
 import bondgraph as bg
 
-import bad_inputs
 from bad_inputs import CASES, Dirs, generate, run
 
 ROOT = Path(__file__).resolve().parents[2]

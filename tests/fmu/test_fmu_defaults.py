@@ -16,7 +16,6 @@ References:
 
 import math
 import shutil
-import sys
 import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path

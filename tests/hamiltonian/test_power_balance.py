@@ -9,7 +9,6 @@ the derivation show up as a violated balance.
 """
 
 import numpy as np
-import pytest
 import sympy
 from hypothesis import HealthCheck, assume, given, settings, strategies as st
 

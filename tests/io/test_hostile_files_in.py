@@ -17,7 +17,6 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import bondgraph as bg
 from bondgraph.export import ExportError, export_json, export_npz, load_json, load_npz
 from bondgraph.numeric import NumericStateSpace
 

@@ -13,12 +13,10 @@ import socket
 import stat
 import subprocess
 import sys
-import textwrap
 import threading
 import time
 from pathlib import Path
 
-import numpy as np
 import pytest
 
 from bondgraph.export import ExportError, export_json

@@ -14,7 +14,6 @@ from __future__ import annotations
 import math
 import subprocess
 import sys
-import warnings
 from concurrent.futures import ProcessPoolExecutor
 
 import control

@@ -31,7 +31,6 @@ True
 
 from __future__ import annotations
 
-import math
 import random
 import signal
 import time
@@ -42,7 +41,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from verification.reference import (ONE_PORTS, PARAM_KINDS, SOURCES, Bond, DescriptionError,
+from verification.reference import (PARAM_KINDS, SOURCES, Bond, DescriptionError,
                                     Element, Graph, Output, Reference, Term, check_graph)
 
 __all__ = ["generate", "build", "check", "shrink", "dsl", "Outcome", "CLASSES", "FAILURES",
