@@ -30,7 +30,7 @@ from ._checks import Normalize, _check_options
 from ._convert import _Converter
 from ._packed import Terms
 from ._packed_ops import cancel_terms, normalize_terms
-from ._exact import _domain_gens, _poly_values, _value_map
+from ._exact import _domain_gens, _poly_values, _used_symbols, _value_map
 from ._terms import poly_terms, symbolic_sum
 from .errors import InvalidOptionError, SingularPencilError
 from .latex import tf_latex
@@ -209,7 +209,7 @@ class SymbolicTF:
             return replace(self, num=sp.Poly(self.num.as_expr().xreplace(exact), self.s),
                            den=sp.Poly(self.den.as_expr().xreplace(exact), self.s))
         gens = tuple(dict.fromkeys(_domain_gens(self.num) + _domain_gens(self.den)))
-        used = self.num.as_expr().free_symbols | self.den.as_expr().free_symbols
+        used = _used_symbols(self.num) | _used_symbols(self.den)
         vm = _value_map(gens, values, self.known_parameters, used=used)
         for element in self.value_checks:       # a field positive definite at these values
             element.check_values(values or {})
