@@ -311,6 +311,23 @@ def _max_scaled_condition(J: np.ndarray) -> float:
     return float(sv[0] / sv[-1])
 
 
+def _rounding(f: np.ndarray, J: np.ndarray, x: np.ndarray, sizes: np.ndarray) -> bool:
+    """Every ``|f_i|`` within rounding of its row's ``sum_j |J_ij x_j|`` or term sizes."""
+    with np.errstate(all="ignore"):
+        jx = np.abs(np.where(np.isfinite(J), J, 0.0)) @ np.abs(x)
+    ref = np.maximum(jx, np.where(np.isfinite(sizes), sizes, 0.0))
+    return bool(np.all(np.abs(f) <= 1e3 * np.finfo(float).eps * ref))
+
+
+def _newton_helps(eqs: Equations, x_full: np.ndarray, free_idx: Sequence[int], dx: np.ndarray,
+                  f: np.ndarray) -> bool:
+    """Whether the Newton-corrected point cuts the largest residual at least tenfold."""
+    y = np.array(x_full, dtype=float)
+    y[list(free_idx)] -= dx
+    f_new = eqs(y)
+    return bool(np.all(np.isfinite(f_new)) and np.max(np.abs(f_new)) <= 0.1 * np.max(np.abs(f)))
+
+
 def assess(eqs: Equations, x_full: np.ndarray, free_idx: Sequence[int]) -> Assessment:
     """The residual, its scales, the conditioning and isolation of ``x_full``."""
     f = eqs(x_full)
@@ -346,6 +363,10 @@ def assess(eqs: Equations, x_full: np.ndarray, free_idx: Sequence[int]) -> Asses
         dx = np.linalg.lstsq(Jf, f, rcond=None)[0]
         if np.max(np.abs(f - Jf @ dx)) > 1e-6 * np.max(np.abs(f)):
             dx = np.full_like(dx, np.inf)      # f is not in the range of J (more equations)
+        elif not _rounding(f, J, x_full, sizes) and not _newton_helps(eqs, x_full, free_idx, dx, f):
+            # a tiny Newton step that does not shrink f: the linear model is wrong here (a
+            # slope of 1e77 at sqrt|x|'s x = 1e-155), the step says nothing of the distance
+            dx = np.full_like(dx, np.inf)
         xs = np.abs(x_full[list(free_idx)])
         nominal = alpha * c[list(free_idx)] if alpha > 0 else np.zeros(len(free_idx))
         ref = np.maximum(xs, nominal)

@@ -265,30 +265,38 @@ def implicit_plant(model: StateEquations, point: Any, inputs: Optional[Mapping],
         if not exprs or not wrt:
             return np.zeros((len(exprs), len(wrt)))
         M = sympy.Matrix(list(exprs)).jacobian(list(wrt))
+        if M.atoms(sympy.Derivative, sympy.Subs):
+            raise ValueError("an unevaluated derivative")     # a user function's slope
         return np.array(M.xreplace(at).evalf(), dtype=float).reshape(len(exprs), len(wrt))
-    x, u = list(model.states), list(model.inputs)
-    Gz = jac(model.residuals, z_syms)
-    parts = [Gz, jac(model.residuals, x), jac(model.residuals, u)]
-    if not all(np.all(np.isfinite(M)) for M in parts):
-        # a law with an infinite slope at the point (an orifice f = K sign(e) sqrt|e| at
-        # e = 0): dz/dx exists only as a limit; central differences of the reduced model
-        A, B, C, D = _reduced_differences(model, pvals, x0, u0, z0)
+
+    def plant(A, B, C, D) -> NumericStateSpace:
         return NumericStateSpace(A, B, C, D, model.state_names, model.input_names,
                                  model.output_names, {p.name: float(v) for p, v in pvals.items()},
                                  model.name)
+    x, u = list(model.states), list(model.inputs)
+    try:
+        Gz, Gx, Gu = (jac(model.residuals, w) for w in (z_syms, x, u))
+        Fz, Hz = jac(model.rhs, z_syms), jac(model.output_exprs, z_syms)
+        Fx, Fu = jac(model.rhs, x), jac(model.rhs, u)
+        Hx, Hu = jac(model.output_exprs, x), jac(model.output_exprs, u)
+    except (ValueError, TypeError):
+        # no analytic Jacobian at this point: central differences of the reduced model
+        return plant(*_reduced_differences(model, pvals, x0, u0, z0))
+    if not all(np.all(np.isfinite(M)) for M in (Gz, Gx, Gu, Fz, Hz, Fx, Fu, Hx, Hu)):
+        # a law with an infinite slope at the point (an orifice f = K sign(e) sqrt|e| at
+        # e = 0): dz/dx exists only as a limit; central differences of the reduced model
+        return plant(*_reduced_differences(model, pvals, x0, u0, z0))
     if np.linalg.matrix_rank(Gz) < len(z_syms):
+        try:            # the reduced model may still be differentiable (a zero slope in g)
+            return plant(*_reduced_differences(model, pvals, x0, u0, z0))
+        except EquilibriumError:
+            pass
         raise EquilibriumError(
             f"{where}dg/dz is singular at the operating point: the algebraic unknowns "
             f"{', '.join(model.algebraic_names)} are not determined locally "
             "(the implicit-function theorem does not apply)")
-    Gx, Gu = np.linalg.solve(Gz, jac(model.residuals, x)), np.linalg.solve(Gz, jac(model.residuals, u))
-    Fz, Hz = jac(model.rhs, z_syms), jac(model.output_exprs, z_syms)
-    A = jac(model.rhs, x) - Fz @ Gx
-    B = jac(model.rhs, u) - Fz @ Gu
-    C = jac(model.output_exprs, x) - Hz @ Gx
-    D = jac(model.output_exprs, u) - Hz @ Gu
-    return NumericStateSpace(A, B, C, D, model.state_names, model.input_names, model.output_names,
-                             {p.name: float(v) for p, v in pvals.items()}, model.name)
+    Sx, Su = np.linalg.solve(Gz, Gx), np.linalg.solve(Gz, Gu)
+    return plant(Fx - Fz @ Sx, Fu - Fz @ Su, Hx - Hz @ Sx, Hu - Hz @ Su)
 
 
 def _reduced_differences(model: StateEquations, pvals: Mapping, x0: Mapping, u0: Mapping,
