@@ -139,6 +139,8 @@ class Equations:
             self.jacobian_kind = "finite differences"
             self._rough = self._lambdify(args, J.xreplace({a: sympy.S.Zero for a in undefined}))
         self.used_fd = False
+        kinks = kink_arguments(eqs)
+        self._kinks = sympy.lambdify(args, kinks, modules=MODULES) if kinks else None
 
     def _lambdify(self, args, J) -> Optional[Callable]:
         try:
@@ -169,9 +171,29 @@ class Equations:
             rows = self._sizes(np.asarray(x, dtype=float), self.u)
         return np.array([float(np.sum(np.asarray(r, dtype=float))) for r in rows])
 
+    def at_kink(self, x: np.ndarray) -> bool:
+        """Whether an argument of ``sign``, ``Abs`` or ``Heaviside`` is exactly 0 at ``x``."""
+        if self._kinks is None:
+            return False
+        with np.errstate(all="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)
+            vals = np.asarray(self._kinks(np.asarray(x, dtype=float), self.u), dtype=float)
+        return bool(np.any(vals == 0.0))
+
     def jac(self, x: np.ndarray) -> np.ndarray:
-        """``df/dx`` at ``x``: symbolic if finite there, else finite differences."""
+        """``df/dx`` at ``x``: symbolic if finite there, else finite differences.
+
+        At a kink of ``sign``/``Abs`` (``(sqrt(a|p| + b) - c) sign(p)`` at ``p = 0``,
+        whose slope is ``a/(2 sqrt b)`` from both sides) the symbolic form reads
+        ``sign(0)**2 = 0``: the mean of the Jacobians just beside the point is taken.
+        """
         x = np.asarray(x, dtype=float)
+        if self.at_kink(x):
+            h = beside(x)
+            return 0.5 * (self._jac_at(x + h) + self._jac_at(x - h))
+        return self._jac_at(x)
+
+    def _jac_at(self, x: np.ndarray) -> np.ndarray:
         if self._jac is not None:
             with np.errstate(all="ignore"), warnings.catch_warnings():
                 warnings.simplefilter("ignore", RuntimeWarning)
@@ -219,6 +241,36 @@ class Equations:
             warnings.simplefilter("ignore", RuntimeWarning)
             J = np.atleast_2d(approx_fprime(x, self.__call__, step))
         return J.reshape(self.n, self.n)
+
+
+def kink_arguments(exprs: Sequence[sympy.Expr]) -> list[sympy.Expr]:
+    """The arguments of ``sign``, ``Abs`` and ``Heaviside`` in ``exprs`` (where a symbolic
+    derivative may read a one-sided value)."""
+    found: dict = {}
+    for e in exprs:
+        for a in e.atoms(sympy.sign, sympy.Abs, sympy.Heaviside):
+            found.setdefault(a.args[0], None)
+    return list(found)
+
+
+def at_kink(exprs: Sequence[sympy.Expr], at: Mapping) -> bool:
+    """Whether an argument of ``sign``, ``Abs`` or ``Heaviside`` in ``exprs`` is exactly 0
+    with the symbols of ``at`` replaced by its numbers."""
+    for a in kink_arguments(exprs):
+        try:
+            if float(a.xreplace(at)) == 0.0:
+                return True
+        except (TypeError, ValueError):       # not a real number there
+            continue
+    return False
+
+
+def beside(x: np.ndarray) -> np.ndarray:
+    """A small step off ``x`` in a fixed direction with distinct components (so that
+    ``sign(p1 - p2)`` at ``p1 = p2`` moves off its kink too)."""
+    x = np.asarray(x, dtype=float)
+    d = 1.0 + 0.618 * np.arange(x.size)
+    return 1e-9 * np.maximum(1.0, np.abs(x)) * d
 
 
 def equilibrate(J: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 import sympy
 
 import bondgraph as bg
@@ -77,3 +78,26 @@ def test_a_rounding_residue_does_not_make_a_regular_jacobian_singular():
     a = trim.assess(eqs, np.zeros(5), list(range(5)))
     assert abs(np.linalg.det(J)) > 0.1
     assert not a.singular
+
+
+def test_linearization_at_the_kink_of_a_quadratic_damper():
+    """Flow source Q into a tank C drained by a quadratic damper e = a f + b f|f|, given with
+    its inverse f = sign(e) (-a + sqrt(a^2 + 4 b |e|)) / (2 b).  At Q = 0 the tank rests
+    empty, where df/de = 1/a from both sides: q' = Q - f(q/C) gives A = -1/(C a), B = 1.
+    The symbolic slope reads sign(0)**2 = 0 there (seed 1727 of the differential run)."""
+    a, b, C = 0.7, 0.25, 2.0
+    law = a * bg.f + b * bg.f * sympy.Abs(bg.f)
+    inverse = sympy.sign(bg.e) * (-a + sympy.sqrt(a**2 + 4 * b * sympy.Abs(bg.e))) / (2 * b)
+    g = bg.BondGraph("tank")
+    z = bg.Zero("z")
+    g.add(bg.Sf("Q"), z, bg.C("C"), bg.R("d", law=law, inverse=inverse))
+    for t, h in [("Q", z), (z, "C"), (z, "d")]:
+        g.connect(t, h)
+    model = bg.derive(g)
+    eq = model.equilibrium({"C": C}, {"Q": 0.0})
+    assert eq.states["q_C"] == 0.0
+    (lam,) = eq.eigenvalues
+    assert lam.real == pytest.approx(-1.0 / (C * a), rel=1e-6)
+    plant = model.linearize(eq)
+    assert float(plant.A[0, 0]) == pytest.approx(-1.0 / (C * a), rel=1e-6)
+    assert float(plant.B[0, 0]) == pytest.approx(1.0, rel=1e-9)
