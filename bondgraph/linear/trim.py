@@ -95,9 +95,14 @@ def _param_symbols(el):
     return parameter_symbols(el)
 
 
-def _dirac_free(expr: sympy.Expr) -> sympy.Expr:
-    """``DiracDelta`` (the derivative of a jump) is 0 away from the jump."""
-    return expr.replace(sympy.DiracDelta, lambda *a: sympy.S.Zero)
+def dirac_free(expr: sympy.Expr) -> sympy.Expr:
+    """``DiracDelta`` (the derivative of a jump: ``sign``, ``Heaviside``) is 0 away from the
+    jump; so is ``Derivative(sign(g(z)), z)``, which sympy leaves unevaluated when it cannot
+    tell that ``g`` is real."""
+    expr = expr.replace(sympy.DiracDelta, lambda *a: sympy.S.Zero)
+    return expr.replace(lambda e: isinstance(e, sympy.Derivative)
+                        and isinstance(e.expr, (sympy.sign, sympy.Heaviside)),
+                        lambda e: sympy.S.Zero)
 
 
 class Equations:
@@ -131,7 +136,7 @@ class Equations:
         self.jacobian_kind = "symbolic"
         self._jac: Optional[Callable] = None
         self._rough: Optional[Callable] = None      # unevaluable derivatives as 0: for scales only
-        J = sympy.Matrix(list(eqs)).jacobian(self.states).applyfunc(_dirac_free)
+        J = sympy.Matrix(list(eqs)).jacobian(self.states).applyfunc(dirac_free)
         undefined = J.atoms(sympy.Derivative, sympy.Subs) | {
             a for a in J.atoms(sympy.Function) if isinstance(a, sympy.core.function.AppliedUndef)}
         self._jac = self._lambdify(args, J) if not undefined else None

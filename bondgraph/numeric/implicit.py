@@ -47,6 +47,7 @@ from ..signals import t as T_SYM
 from ._compile import CompiledFunction, guard_user_functions, placeholders
 from .errors import SimulationError
 from .statespace import NumericStateSpace
+from ..linear.trim import dirac_free as _dirac_free
 
 __all__ = ["ImplicitSolver", "with_algebraic", "implicit_plant", "NEWTON_ITERATIONS"]
 
@@ -275,7 +276,7 @@ def implicit_plant(model: StateEquations, point: Any, inputs: Optional[Mapping],
     def jac(exprs, wrt) -> np.ndarray:
         if not exprs or not wrt:
             return np.zeros((len(exprs), len(wrt)))
-        M = sympy.Matrix(list(exprs)).jacobian(list(wrt))
+        M = _dirac_free(sympy.Matrix(list(exprs)).jacobian(list(wrt)))
         if M.atoms(sympy.Derivative, sympy.Subs):
             raise ValueError("an unevaluated derivative")     # a user function's slope
         return np.array(M.xreplace(at).evalf(), dtype=float).reshape(len(exprs), len(wrt))
@@ -345,7 +346,7 @@ def _reduced_differences(model: StateEquations, pvals: Mapping, x0: Mapping, u0:
     def columns(v: np.ndarray, which: int) -> np.ndarray:
         cols = []
         for i in range(v.size):
-            h = 1e-6 * max(1.0, abs(v[i]))
+            h = 1e-5 * max(1.0, abs(v[i]))
             up, dn = v.copy(), v.copy()
             up[i] += h
             dn[i] -= h
@@ -387,8 +388,3 @@ def _solve_z(gf, gz, start: np.ndarray) -> Optional[np.ndarray]:
         return None
     res = np.asarray(gf(sol.x), dtype=float)
     return np.asarray(sol.x, dtype=float) if np.max(np.abs(res), initial=0.0) < 1e-9 else None
-
-
-def _dirac_free(expr):
-    """``DiracDelta`` (the derivative of a jump: ``sign``, ``Heaviside``) is 0 away from the jump."""
-    return expr.replace(sympy.DiracDelta, lambda *a: sympy.S.Zero)

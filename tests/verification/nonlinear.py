@@ -373,7 +373,8 @@ def _check(graph: NGraph, out: Outcome, t_end: float) -> None:
         return
     A_ref, B_ref = ref.jacobians(xe, u0)
     A_wide = ref.jacobians(xe, u0, h=1e-5)[0]
-    if _rel(A_wide, A_ref, B_ref, B_ref) > 1e-4:
+    spread = _rel(A_wide, A_ref, B_ref, B_ref)      # the reference's own uncertainty
+    if spread > 1e-4:
         # f is not differentiable at this equilibrium (an orifice at zero pressure drop:
         # slope sqrt(1/|e|) -> inf); no Jacobian to compare, the residual was checked
         out.checks["nondifferentiable_equilibrium"] = 1.0
@@ -383,7 +384,9 @@ def _check(graph: NGraph, out: Outcome, t_end: float) -> None:
     pB = np.asarray(plant.B)[np.ix_(xi, ui)] if len(ui) else np.zeros((len(xi), 0))
     e_eq = _rel(pA, A_ref, pB, B_ref)
     out.checks["jacobian_at_equilibrium"] = e_eq
-    if not e_eq <= TOL_J:
+    # next to a kink (an orifice at zero flow) the reference's differences with h = 1e-6
+    # and 1e-5 differ by up to 1e-4: the comparison cannot be tighter than that spread
+    if not e_eq <= max(TOL_J, 10 * spread):
         out.cls, out.detail = "wrong", f"linearize at the equilibrium differs by {e_eq:.3g}"
         return
     if eq.stability == "unknown":
