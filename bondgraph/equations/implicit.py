@@ -30,7 +30,7 @@ capacitor: the loop current has no closed form.
 >>> for t, h in [("s", "C"), ("s", "R"), ("s", "D")]: _ = g.connect(t, h)
 >>> model = bg.derive(g)
 >>> model.algebraic, model.residuals
-((f_D,), (f_D - (-Vt*log((Is + f_D)/Is) - q_C/C)/R,))
+((f_D,), (f_D - (-Vt*log(1 + f_D/Is) - q_C/C)/R,))
 """
 
 from __future__ import annotations

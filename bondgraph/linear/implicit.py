@@ -109,16 +109,17 @@ def implicit_equilibrium(model: "Model", values: ParameterValues, inputs: Option
             text + f"; methods tried: {'; '.join(tried)}. Give another guess= (states and the "
             f"algebraic unknowns {', '.join(model.algebraic_names)})")
     n = len(model.states)
-    kw = dict(how=how + " (f = 0 and g = 0 together)", scaled_residual=found.scaled_residual,
-              algebraic={z.name: float(v) for z, v in zip(model.algebraic, found.x[n:])})
+    how = how + " (f = 0 and g = 0 together)"
+    algebraic = {z.name: float(v) for z, v in zip(model.algebraic, found.x[n:])}
     states = {x.name: float(v) for x, v in zip(model.states, found.x[:n])}
     inputs_out = {u.name: float(v) for u, v in u0.items()}
     named_values = {p.name: v for p, v in pvals.items()}
     if not system.differentiable_at(found.x):
-        kw["how"] += ("; the Jacobian is not finite at this point (a law with an infinite slope "
-                      "there): its isolation and stability are not decided")
+        how += ("; the Jacobian is not finite at this point (a law with an infinite slope "
+                "there): its isolation and stability are not decided")
         return Equilibrium(states, inputs_out, named_values, found.max_residual, "numeric",
-                           condition=math.inf, jacobian="not finite at the point", **kw)
+                           how=how, scaled_residual=found.scaled_residual, condition=math.inf,
+                           jacobian="not finite at the point", algebraic=algebraic)
     if found.singular:
         raise EquilibriumError(
             f"{where}the equilibrium is not isolated (or a law has zero slope there, such as "
@@ -127,8 +128,9 @@ def implicit_equilibrium(model: "Model", values: ParameterValues, inputs: Option
             "order; hold states that can take any value with fixed={...}")
     eig, verdict = _reduced_stability(system.jac(found.x), n)
     return Equilibrium(states, inputs_out, named_values, found.max_residual, "numeric",
+                       how=how, scaled_residual=found.scaled_residual,
                        condition=found.condition, jacobian=system.jacobian_kind,
-                       eigenvalues=eig, stability=verdict, **kw)
+                       eigenvalues=eig, stability=verdict, algebraic=algebraic)
 
 
 def _reduced_stability(J: np.ndarray, n: int) -> tuple[tuple[complex, ...], str]:
