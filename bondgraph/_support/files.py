@@ -73,6 +73,34 @@ class _DuplicateKey(Exception):
         self.key = key
 
 
+
+#: deepest nesting of arrays and tables a parameter file may have (a parser's recursion
+#: would otherwise decide, and the interpreter's recursion limit is not ours to rely on)
+MAX_NESTING = 1000
+
+
+def _nesting(text: str, quotes: str) -> int:
+    """The deepest nesting of ``[``/``{`` in ``text`` outside quoted strings."""
+    depth = deepest = 0
+    quote = ""
+    escaped = False
+    for ch in text:
+        if quote:
+            if escaped:
+                escaped = False
+            elif ch == "\\" and quote == '"':
+                escaped = True
+            elif ch == quote:
+                quote = ""
+        elif ch in quotes:
+            quote = ch
+        elif ch in "[{":
+            depth += 1
+            deepest = max(deepest, depth)
+        elif ch in "]}":
+            depth -= 1
+    return deepest
+
 def _unique_pairs(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
     out: dict[str, Any] = {}
     for key, value in pairs:
@@ -117,6 +145,8 @@ def decode_json(raw: bytes, what: str, fail: Callable[[str], Exception]) -> Any:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
         raise fail(f"{what} is not UTF-8 text: {exc}") from None
+    if _nesting(text, quotes='"') > MAX_NESTING:
+        raise fail(f"{what} is nested too deeply to be read")
     try:
         return json.loads(text, object_pairs_hook=_unique_pairs, parse_int=_parse_int)
     except _DuplicateKey as exc:
@@ -459,7 +489,13 @@ def read_table(path: Any, what: str, error: Callable[[str], Exception]) -> tuple
             raise error(f"{label}: TOML needs Python 3.11+ or the 'tomli' package; "
                         "use a .json file instead") from None
     try:
-        return name, tomllib.loads(raw.decode("utf-8"))
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise error(f"{label} is not UTF-8 text: {exc}") from None
+    if _nesting(text, quotes="\"'") > MAX_NESTING:
+        raise error(f"{label} is nested too deeply to be read")
+    try:
+        return name, tomllib.loads(text)
     except UnicodeDecodeError as exc:
         raise error(f"{label} is not UTF-8 text: {exc}") from None
     except RecursionError:
