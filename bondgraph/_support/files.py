@@ -79,6 +79,17 @@ class _DuplicateKey(Exception):
 MAX_NESTING = 1000
 
 
+def _readable_text(raw: bytes, quotes: str, fail, what: str) -> str:
+    """``raw`` as UTF-8 text nested at most :data:`MAX_NESTING` deep, or ``fail(message)``."""
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise fail(f"{what} is not UTF-8 text: {exc}") from None
+    if _nesting(text, quotes) > MAX_NESTING:
+        raise fail(f"{what} is nested too deeply to be read")
+    return text
+
+
 def _nesting(text: str, quotes: str) -> int:
     """The deepest nesting of ``[``/``{`` in ``text`` outside quoted strings."""
     depth = deepest = 0
@@ -141,12 +152,7 @@ def decode_json(raw: bytes, what: str, fail: Callable[[str], Exception]) -> Any:
     ...
     ValueError: 'x.json': the key 'a' appears twice in one object
     """
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise fail(f"{what} is not UTF-8 text: {exc}") from None
-    if _nesting(text, quotes='"') > MAX_NESTING:
-        raise fail(f"{what} is nested too deeply to be read")
+    text = _readable_text(raw, '"', fail, what)
     try:
         return json.loads(text, object_pairs_hook=_unique_pairs, parse_int=_parse_int)
     except _DuplicateKey as exc:
@@ -488,16 +494,9 @@ def read_table(path: Any, what: str, error: Callable[[str], Exception]) -> tuple
         except ModuleNotFoundError:
             raise error(f"{label}: TOML needs Python 3.11+ or the 'tomli' package; "
                         "use a .json file instead") from None
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise error(f"{label} is not UTF-8 text: {exc}") from None
-    if _nesting(text, quotes="\"'") > MAX_NESTING:
-        raise error(f"{label} is nested too deeply to be read")
+    text = _readable_text(raw, "\"'", error, label)
     try:
         return name, tomllib.loads(text)
-    except UnicodeDecodeError as exc:
-        raise error(f"{label} is not UTF-8 text: {exc}") from None
     except RecursionError:
         raise error(f"{label} is nested too deeply to be read") from None
     except ValueError as exc:  # tomllib.TOMLDecodeError, also for a repeated key
