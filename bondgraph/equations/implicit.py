@@ -85,10 +85,12 @@ class ImplicitPart:
         self.entries.append([z, z, residual, origin, (el.label(),)])
 
     def add_loops(self, blocks: list) -> None:
-        """Nonlinear loop blocks from :func:`~bondgraph.equations.loops.solve_blocks`."""
+        """Loop blocks kept unsolved by :func:`~bondgraph.equations.loops.solve_blocks`:
+        ``(block, residuals, kind)``, ``kind`` ``"nonlinear"`` or ``"linear"`` (a
+        linear loop past the exact solver's term budget)."""
         var_of = {sym: v for v, sym in self.d.broken.items()}
         arbitrary = set(self.d.aug.arbitrary)
-        for block, residuals in blocks:
+        for block, residuals, kind in blocks:
             bonds = [self.d.bonds[var_of[u] // 2] for u in block]
             elements = tuple(dict.fromkeys(
                 self.d.flat.element(end).label() for b in bonds for end in (b.tail, b.head)
@@ -100,8 +102,11 @@ class ImplicitPart:
                 stem = f"{self._what(v)[0]}_{owner if owner is not None else b.number}"
                 named = self._name(stem, f"the {self._what(v)} of {self._bond(v)} "
                                          "(an algebraic unknown)")
-                origin = (f"the {self._what(v)} of {self._bond(v)}, in a nonlinear algebraic "
-                          f"loop through {', '.join(elements) or 'the junction structure'}")
+                why = ("" if kind == "nonlinear" else
+                       " (kept unsolved: its exact symbolic solution passes the term budget "
+                       "bondgraph.equations.loops.LOOP_TERM_BUDGET)")
+                origin = (f"the {self._what(v)} of {self._bond(v)}, in a {kind} algebraic "
+                          f"loop through {', '.join(elements) or 'the junction structure'}{why}")
                 self.entries.append([u, named, r, origin, elements])
 
     def law_symbols(self) -> set:

@@ -4,11 +4,20 @@ The unknowns that break zero-order causal loops (and the state derivatives of
 a model with derivative causality) satisfy ``u = expr(u, ...)``.  They are
 solved block by block (strongly connected components, in causal order).  A
 block with parameter coefficients and a right-hand side linear in the knowns
-(states, inputs, their derivatives) is solved over the field of rational
-functions of the parameters with sympy's ``DomainMatrix``: every coefficient
+(states, inputs, their derivatives) is solved exactly by fraction-free
+elimination (:mod:`bondgraph.equations.fraction_free`): every coefficient
 comes out as one reduced fraction, never nested, so what follows (state
 space, transfer functions) stays small.  Other blocks (nonlinear laws) use
 sympy's ``LUsolve``.
+
+Budget.  A reduced fraction can be too large to write down: the symbolic
+resistive ladder's Thevenin resistance has Fibonacci-many monomials in the
+number of sections.  An elimination whose working matrix passes
+:data:`LOOP_TERM_BUDGET` polynomial terms stops; the block's unknowns are
+then kept as linear algebraic unknowns ``z`` with residuals ``0 = g(x, z,
+u)`` (an implicit model, solved numerically: plants, simulation,
+equilibria), or refused (:class:`LoopBudgetError`) where no implicit form
+applies.
 """
 
 from __future__ import annotations
@@ -18,13 +27,26 @@ from typing import Mapping, Optional
 import networkx as nx
 import sympy
 from sympy.polys.matrices import DomainMatrix
-from sympy.polys.matrices.exceptions import DMNonInvertibleMatrixError
 from sympy.polys.polyerrors import CoercionFailed
+from sympy.solvers.solveset import NonlinearError
 
 from .._support.zero import reduced
 from ..errors import AlgebraicLoopError
+from .fraction_free import SINGULAR, TOO_LARGE, solve_fraction_free, to_field
 
-__all__ = ["SingularLoopError", "compact_linear", "field_matrix", "solve_blocks"]
+__all__ = ["LOOP_TERM_BUDGET", "LoopBudgetError", "SingularLoopError", "compact_linear",
+           "field_matrix", "solve_blocks"]
+
+#: Largest number of polynomial terms an exact loop solve may hold while it
+#: eliminates (the 6-section symbolic ladder needs about 1,000 and derives in 3 s;
+#: 7 sections need 2,000 and 13 s; the loops of 600 random graphs stay
+#: under 300).  Past it, the loop is kept as linear algebraic unknowns.
+LOOP_TERM_BUDGET = 1200
+
+
+class LoopBudgetError(AlgebraicLoopError):
+    """A linear loop whose exact solution passes :data:`LOOP_TERM_BUDGET` where no
+    implicit form applies (a derivative-causality block)."""
 
 
 class SingularLoopError(AlgebraicLoopError):
@@ -34,7 +56,8 @@ class SingularLoopError(AlgebraicLoopError):
     block: tuple = ()
 
 
-_SINGULAR: list = []
+_SINGULAR = SINGULAR
+_TOO_LARGE = TOO_LARGE
 
 
 def field_matrix(M: sympy.Matrix) -> Optional[DomainMatrix]:
@@ -56,35 +79,64 @@ def field_matrix(M: sympy.Matrix) -> Optional[DomainMatrix]:
 
 def _solve_linear_in_knowns(M: sympy.Matrix, rhs: sympy.Matrix, knowns: set):
     """Solve ``M z = rhs`` exactly when ``M`` holds parameters only and ``rhs`` is
-    linear in the knowns: the coefficients are solved over the field of rational
-    functions of the parameters (reduced fractions, no nesting), so that
-    ``z = X k + x0`` stays compact.  None when that form does not apply;
-    ``_SINGULAR`` when ``M`` is singular."""
+    linear in the knowns: the coefficients are solved by fraction-free
+    elimination (reduced fractions, no nesting), so that ``z = X k + x0`` stays
+    compact.  None when that form does not apply; ``_SINGULAR`` when ``M`` is
+    singular; ``_TOO_LARGE`` past :data:`LOOP_TERM_BUDGET`."""
     n = M.rows
     if any(M[i, j].free_symbols & knowns for i in range(n) for j in range(n)):
         return None
     ks = sorted(set().union(*(r.free_symbols for r in rhs)) & knowns, key=sympy.default_sort_key)
-    R = sympy.zeros(n, len(ks) + 1)
-    zero = {k: 0 for k in ks}
-    for i in range(n):
-        r = rhs[i]
-        for j, k in enumerate(ks):
-            c = sympy.diff(r, k)
-            if c.free_symbols & knowns:
-                return None
-            R[i, j] = c
-        R[i, len(ks)] = r.xreplace(zero)
-    full = field_matrix(M.row_join(R))
-    if full is None:
-        return None
-    A, B = full[:, :n], full[:, n:]
     try:
-        X = A.lu_solve(B).to_Matrix()
-    except DMNonInvertibleMatrixError:
-        return _SINGULAR
+        coeffs, const = sympy.linear_eq_to_matrix(list(rhs), ks)
+    except (NonlinearError, ValueError):
+        return None
+    if any(c.free_symbols & knowns for c in coeffs):
+        return None
+    R = coeffs.row_join(-const)
+    if any(e.has(sympy.Float) for e in M) or any(e.has(sympy.Float) for e in R):
+        return None         # exact arithmetic only
+    X = solve_fraction_free(M, R, budget=LOOP_TERM_BUDGET)
+    if X is None or isinstance(X, str):
+        return X
     return [sympy.Add(*(X[i, j] * k for j, k in enumerate(ks))) + X[i, len(ks)]
             for i in range(n)]
 
+
+
+def _block_matrix(block: list, eqs: list, model: str, what: str, keep: bool):
+    """``(M, rhs, nonlinear)`` with ``M u = rhs`` the block's equations ``u = expr(u)``.
+
+    A block linear in its unknowns is read in one pass over its terms
+    (``sympy.linear_eq_to_matrix``, cost proportional to its size); otherwise
+    each coefficient is a derivative, zero decided exactly, and a block that
+    stays nonlinear is refused unless ``keep``.
+    """
+    try:
+        M, rhs = sympy.linear_eq_to_matrix([u - ex for u, ex in zip(block, eqs)], block)
+        return M, rhs, False
+    except (NonlinearError, ValueError):
+        pass
+    zero = {u: 0 for u in block}
+    M = sympy.zeros(len(block))
+    rhs = sympy.zeros(len(block), 1)
+    nonlinear = False
+    for i, (u, ex) in enumerate(zip(block, eqs)):
+        for j, w in enumerate(block):
+            a = sympy.diff(ex, w)
+            if a.free_symbols & set(block):
+                a = reduced(a)          # zero coefficients of unknowns, decided exactly
+            if a.free_symbols & set(block):
+                if not keep:
+                    raise AlgebraicLoopError(
+                        f"model {model!r}: the {what} in {', '.join(map(str, block))} "
+                        "is nonlinear in its unknowns; give an explicit (inverse) law for "
+                        "the R or storage element involved"
+                    )
+                nonlinear = True
+            M[i, j] = (1 if i == j else 0) - a
+        rhs[i] = ex.xreplace(zero)
+    return M, rhs, nonlinear
 
 
 def solve_blocks(unknowns: dict[sympy.Symbol, sympy.Expr], *, knowns: set, what: str,
@@ -108,9 +160,11 @@ def solve_blocks(unknowns: dict[sympy.Symbol, sympy.Expr], *, knowns: set, what:
     states : mapping
         Storage element name -> state symbol, to name the storage in a singular block.
     implicit : list, optional
-        When given, a block nonlinear in its unknowns is not refused: its
-        unknowns stay unsolved (symbols in what follows) and ``(block,
-        residuals)`` is appended, with ``residuals[i] = u_i - expr_i = 0``.
+        When given, a block nonlinear in its unknowns, or linear but past
+        :data:`LOOP_TERM_BUDGET`, is not refused: its unknowns stay unsolved
+        (symbols in what follows) and ``(block, residuals, kind)`` is
+        appended, with ``residuals[i] = u_i - expr_i = 0`` and ``kind``
+        ``"nonlinear"`` or ``"linear"``.
 
     Raises
     ------
@@ -118,6 +172,8 @@ def solve_blocks(unknowns: dict[sympy.Symbol, sympy.Expr], *, knowns: set, what:
         A block nonlinear in its unknowns.
     SingularLoopError
         A singular block; ``storage`` names the storage elements in it.
+    LoopBudgetError
+        A linear block past :data:`LOOP_TERM_BUDGET` with no ``implicit`` list.
 
     Examples
     --------
@@ -142,27 +198,10 @@ def solve_blocks(unknowns: dict[sympy.Symbol, sympy.Expr], *, knowns: set, what:
         if len(block) == 1 and block[0] not in eqs[0].free_symbols:
             sol[block[0]] = eqs[0]
             continue
-        zero = {u: 0 for u in block}
-        M = sympy.zeros(len(block))
-        rhs = sympy.zeros(len(block), 1)
-        nonlinear = False
-        for i, (u, ex) in enumerate(zip(block, eqs)):
-            for j, w in enumerate(block):
-                a = sympy.diff(ex, w)
-                if a.free_symbols & set(block):
-                    a = reduced(a)          # zero coefficients of unknowns, decided exactly
-                if a.free_symbols & set(block):
-                    if implicit is None:
-                        raise AlgebraicLoopError(
-                            f"model {model!r}: the {what} in {', '.join(map(str, block))} "
-                            "is nonlinear in its unknowns; give an explicit (inverse) law for "
-                            "the R or storage element involved"
-                        )
-                    nonlinear = True
-                M[i, j] = (1 if i == j else 0) - a
-            rhs[i] = ex.xreplace(zero)
+        M, rhs, nonlinear = _block_matrix(block, eqs, model, what, implicit is not None)
         if nonlinear and implicit is not None:      # kept as residuals u - expr(u) = 0 (an implicit model)
-            implicit.append((tuple(block), tuple(u - ex for u, ex in zip(block, eqs))))
+            implicit.append((tuple(block), tuple(u - ex for u, ex in zip(block, eqs)),
+                             "nonlinear"))
             continue
         singular = SingularLoopError(
             f"model {model!r}: the {what} in {', '.join(u.name for u in block)} "
@@ -177,6 +216,16 @@ def solve_blocks(unknowns: dict[sympy.Symbol, sympy.Expr], *, knowns: set, what:
             if any(x in (eq.free_symbols if hasattr(eq, "free_symbols") else ())
                    for eq in list(rhs) + list(M))))
         exact = _solve_linear_in_knowns(M, rhs, knowns)
+        if exact is _TOO_LARGE:
+            if implicit is not None:    # kept as linear residuals u - expr(u) = 0
+                implicit.append((tuple(block), tuple(u - ex for u, ex in zip(block, eqs)),
+                                 "linear"))
+                continue
+            raise LoopBudgetError(
+                f"model {model!r}: the {what} in {', '.join(map(str, block))} is too large to "
+                f"solve symbolically (its exact solution passes {LOOP_TERM_BUDGET} polynomial "
+                "terms while eliminating); give numeric values to some of its parameters, or "
+                "raise bondgraph.equations.loops.LOOP_TERM_BUDGET")
         if exact is not None:
             if exact is _SINGULAR:
                 raise singular
@@ -225,13 +274,15 @@ def compact_linear(exprs: list, knowns: set) -> list:
         ks = sorted(ex.free_symbols & knowns, key=sympy.default_sort_key)
         parts = []
         try:
-            for k in ks:
-                c = sympy.diff(ex, k)
+            # one pass over the terms (NonlinearError, a ValueError, when not linear)
+            coeffs, const = sympy.linear_eq_to_matrix([ex], ks) if ks else (
+                sympy.zeros(1, 0), sympy.Matrix([-ex]))
+            for k, c in zip(ks, coeffs):
                 if c.free_symbols & knowns:
                     raise ValueError("nonlinear")
-                parts.append(K.from_expr(c).as_expr() * k)
-            const = ex.xreplace({k: 0 for k in ks})
-            parts.append(K.from_expr(const).as_expr() if const != 0 else sympy.Integer(0))
+                parts.append(to_field(K, c).as_expr() * k)
+            const = -const[0]
+            parts.append(to_field(K, const).as_expr() if const != 0 else sympy.Integer(0))
         except (ValueError, CoercionFailed, ZeroDivisionError):
             out.append(ex)
             continue

@@ -105,22 +105,28 @@ def refuse_implicit(model: StateEquations, what: str) -> None:
             f"algebraic unknowns {', '.join(model.algebraic_names)} "
             f"({'; '.join(model.algebraic_origin)}); it has no {what}.  Linearize it at a "
             "numeric operating point instead: model.linearize(model.equilibrium(values, "
-            "inputs)) (the implicit-function theorem, A = f_x - f_z g_z^-1 g_x)")
+            "inputs)) (the implicit-function theorem, A = f_x - f_z g_z^-1 g_x); when "
+            "f and g are linear, bondgraph.compile_plant(model).plant(values) gives its "
+            "plant at any parameter values")
 
 
 @with_paused_gc
-def linear_form(exprs, x, u, model: StateEquations, what: str, lhs: str, ud=None):
+def linear_form(exprs, x, u, model: StateEquations, what: str, lhs: str, ud=None, *,
+                implicit_ok: bool = False):
     """Sparse ``(M_x, M_u)`` with ``exprs = M_x x + M_u u``; checks linearity.
 
     With ``ud`` (input-derivative symbols) also ``M_ud``, the coefficients
-    of those symbols, which are otherwise refused.
+    of those symbols, which are otherwise refused.  An implicit model is
+    refused unless ``implicit_ok`` (then ``x`` lists its algebraic unknowns
+    after the states).
 
     One pass over the terms of each expression: a term that is a product
     containing exactly one state or input (to the first power) gives its
     coefficient directly; any other term is differentiated.  Cost is
     proportional to the size of the expressions, not to ``len(x)**2``.
     """
-    refuse_implicit(model, "a constant linear form")
+    if not implicit_ok:         # with it, ``x`` holds the algebraic unknowns too
+        refuse_implicit(model, "a constant linear form")
     x, u = tuple(x), tuple(u)
     ud_cols = tuple(ud) if ud is not None else ()
     col = {s: (0, j) for j, s in enumerate(x)}

@@ -60,6 +60,7 @@ from __future__ import annotations
 from typing import Optional, Sequence, Union
 
 import numpy as np
+import scipy.sparse as sp
 import sympy
 
 from .._support.labels import control_labels
@@ -68,6 +69,7 @@ from ..linear import derivative_form
 from .._support.sympify import parameter_symbols
 from ._compile import CompiledFunction, placeholders, user_functions
 from ._monomials import compile_entries
+from ._schur import implicit_blocks, reduce, reduce_batch
 from ..elements.fields.algebra import check_definite
 from ._linalg import freeze
 from .batch import BatchStateSpace, SparseBatchStateSpace
@@ -149,6 +151,13 @@ class NumericModel(_CompiledModel):
         If the model is not linear (input derivatives are fine: see
         :mod:`bondgraph.numeric.plant`).
 
+    Notes
+    -----
+    A linear model that keeps algebraic unknowns ``z`` (a loop too large to
+    solve symbolically) is compiled as its blocks ``f = F_x x + F_z z + F_u
+    u``, ``0 = G_x x + G_z z + G_u u``; each plant eliminates ``z``
+    numerically (:mod:`bondgraph.numeric._schur`), and its batches are dense.
+
     Examples
     --------
     >>> import bondgraph as bg
@@ -168,7 +177,9 @@ class NumericModel(_CompiledModel):
         if sparse not in (None, True, False):
             raise NumericError(f"sparse must be True, False or None (by size); got {sparse!r}")
         self._sparse = sparse
-        mats, self._labels = _reduced_form(model)
+        #: a linear implicit model: its algebraic unknowns are eliminated after evaluation
+        self._implicit = bool(model.algebraic)
+        mats, self._labels = implicit_blocks(model) if self._implicit else _reduced_form(model)
         #: number of D_derivatives (and state_shift) matrices: 0 for an ordinary plant
         self._order = (len(mats) - 4) // 2
         patterns, var_pos, exprs, const_pos, const_val = [], [], [], [], []
@@ -304,6 +315,10 @@ class NumericModel(_CompiledModel):
                 else freeze(p.to_dense(vals[off[k]:off[k + 1]]))
                 for k, p in enumerate(self._patterns)]
         A, B, C, D, Dd, S = self._split(mats)
+        if self._implicit:
+            A, B, C, D = reduce(self._model, A, B, C, D, as_sparse)
+            A, B, C, D = ((sp.csr_array(M) for M in (A, B, C, D)) if as_sparse
+                          else (freeze(np.ascontiguousarray(M)) for M in (A, B, C, D)))
         return NumericStateSpace(A, B, C, D, self.state_names, self.input_names, self.output_names,
                                  dict(zip(self.parameter_names, vec.tolist())), self._model.name,
                                  Dd, S)
@@ -341,6 +356,13 @@ class NumericModel(_CompiledModel):
         self._check_finite(vals, arr, True)
         freeze(arr)
         names = (self.state_names, self.input_names, self.output_names, self.parameter_names)
+        if self._implicit:          # eliminated per parameter set: dense stacks
+            off = self._offsets
+            A, B, C, D = (p.to_dense(vals[:, off[k]:off[k + 1]])
+                          for k, p in enumerate(self._patterns[:4]))
+            A, B, C, D = (freeze(np.ascontiguousarray(M))
+                          for M in reduce_batch(self._model, A, B, C, D))
+            return BatchStateSpace(A, B, C, D, *names, arr, self._model.name, (), ())
         if as_sparse:
             return SparseBatchStateSpace(self._patterns, freeze(vals), *names, arr,
                                          self._model.name, self._order)
