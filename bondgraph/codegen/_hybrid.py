@@ -289,7 +289,7 @@ def _enter(sm, mode, full, q_exprs, x, n, sub, Q, Z, H, sig_list, own, sig_expr)
                           "quantities that are not affine in the mode's states: the "
                           "re-initialisation at entering it is not a linear map")
         Qh = sympy.hessian(H, Q) if Q else sympy.zeros(0, 0)
-        if Qh.free_symbols & set(Q):
+        if n and Qh.free_symbols & set(Q):
             raise _refuse(sm, mode, f"{', '.join(dependent)} go into derivative causality with a "
                           "stored energy that is not quadratic: the re-initialisation (a projection "
                           "in the energy metric) is not a linear map; only linear storage can be "

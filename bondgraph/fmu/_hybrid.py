@@ -16,7 +16,7 @@ the switching:
   with a guard free, fewest flips from the built state) and re-initialises
   the state;
 * in event mode (``fmi2NewDiscreteStates``, ``fmi3UpdateDiscreteStates``) the
-  switches whose indicators are negative flip; the stored quantities are
+  switches whose indicators are at or below zero flip; the stored quantities are
   first put back on the current mode's constraint (what the importer's
   integration of a dependent quantity drifted), then the new mode is chosen
   as :func:`bondgraph.hybrid.simulate` chooses it (the diodes free and
@@ -68,7 +68,8 @@ static void bg_sw_indicators(bg_instance *c, double t, const double *x, double *
     for (j = 0; j < BG_NZ; ++j) z[j] += c->d.sw_off[j];
 }
 
-/* the switches whose indicators are negative */
+/* the switches whose indicators are at or below zero (a root CVode finds may be exactly 0; a
+ * mode is never entered with an indicator at or below zero: see bg_sw_offsets) */
 static unsigned long bg_sw_fired(bg_instance *c, double t, const double *x)
 {
     double z[BG_GALLOC];
@@ -76,7 +77,7 @@ static unsigned long bg_sw_fired(bg_instance *c, double t, const double *x)
     int j;
     bg_sw_indicators(c, t, x, z);
     for (j = 0; j < BG_NZ; ++j)
-        if (z[j] < 0.0) fired |= 1UL << BG_SW_GUARD_SWITCH[j];
+        if (z[j] <= 0.0) fired |= 1UL << BG_SW_GUARD_SWITCH[j];
     return fired;
 }
 
@@ -311,8 +312,8 @@ def _nominals(sp: Any, parameters: list[float]) -> tuple[float, ...]:
 
     import sympy
 
-    subs = {sympy.Symbol(i, real=True): v for i, v in zip(sp.parameter_ids, parameters)}
-    rest = {sympy.Symbol(i, real=True): 0 for i in sp.state_ids}
+    subs = {sympy.Symbol(i, real=True): sympy.Float(v) for i, v in zip(sp.parameter_ids, parameters)}
+    rest = {sympy.Symbol(i, real=True): sympy.Integer(0) for i in sp.state_ids}
     out = []
     for ident in sp.state_ids:
         s = sympy.Symbol(ident, real=True)
@@ -362,8 +363,9 @@ def build_switched_fmu(sm: Any, *, version: int, me: bool, cs: bool,
     from ._c_fmi3 import FMI3_LAYER
     from ._xml import build_description, model_description
 
-    if isinstance(guard_tol, bool) or not isinstance(guard_tol, (int, float)) or not 0 <= guard_tol < 1:
-        raise FMUError(f"guard_tol must be a number in [0, 1); got {guard_tol!r}")
+    if isinstance(guard_tol, bool) or not isinstance(guard_tol, (int, float)) or not 0 < guard_tol < 1:
+        raise FMUError(f"guard_tol must be a number in (0, 1) (the FMU's hysteresis at a mode "
+                       f"change); got {guard_tol!r}")
     if values is not None and not hasattr(values, "items"):
         raise FMUError(f"values must be a mapping of parameter name to number; got {type(values).__name__}")
     headers = standard_headers(version)
