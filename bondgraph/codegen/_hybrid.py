@@ -132,9 +132,9 @@ def prepare_switched(sm, *, reserved: Iterable[str], matlab: bool = False,
     for full in fulls:
         for name, sig in full.integrators:
             integ.setdefault(sig, name)
-    for sig in integ:
+    for sig, first in integ.items():
         named = [k for k, e in sm.user_outputs.items() if isinstance(e, Signal) and str(e) == sig]
-        integ[sig] = str(named[0]) if named else (integ[sig] if not integ[sig].startswith("hyb_") else sig)
+        integ[sig] = str(named[0]) if named else (first if not first.startswith("hyb_") else sig)
     sig_list = list(integ)
     Q = [sympy.Dummy(f"q{k}", real=True) for k in range(nq)]
     Z = [sympy.Dummy(f"z{k}", real=True) for k in range(len(sig_list))]
@@ -150,7 +150,7 @@ def prepare_switched(sm, *, reserved: Iterable[str], matlab: bool = False,
     for i in guarded:
         for on in (True, False):
             g = sm.element(sm.switches[i]).guard(on)
-            for s in sorted(g.free_symbols, key=str):
+            for s in sorted(g.free_symbols if g is not None else (), key=str):
                 if not isinstance(s, Signal) and s != T_SYM:
                     params.setdefault(s.name, s)
     inputs: list = []
@@ -190,7 +190,7 @@ def prepare_switched(sm, *, reserved: Iterable[str], matlab: bool = False,
                 raise _refuse(sm, mode, f"the integrated signal {sig} is not defined in this mode")
             sig_expr[sig] = s_exprs[hit[0]]
 
-        def rate(expr: sympy.Expr, mode=mode) -> sympy.Expr:
+        def rate(expr: sympy.Expr, mode=mode, full=full, fx=fx, sub=sub) -> sympy.Expr:
             """d expr/dt along the mode's equations (chain rule)."""
             if any(sympy.diff(expr, u) != 0 for u in full.inputs):
                 raise _refuse(sm, mode, f"{expr} depends on an input: its rate needs the input's "
@@ -208,7 +208,7 @@ def prepare_switched(sm, *, reserved: Iterable[str], matlab: bool = False,
             rhs.append(f[x.index(rows_of[Q[k]])] if Q[k] in rows_of else rate(q_exprs[k]))
         for i, sig in enumerate(sig_list):
             if sig in own:
-                j = [jj for jj, (_, s2) in enumerate(full.integrators) if s2 == sig][0]
+                j = next(jj for jj, (_, s2) in enumerate(full.integrators) if s2 == sig)
                 rhs.append(f[n + j])
             else:
                 rhs.append(rate(sig_expr[sig]))
@@ -217,7 +217,9 @@ def prepare_switched(sm, *, reserved: Iterable[str], matlab: bool = False,
         sig_map = dict(zip(sm.guard_signals, s_exprs))
         gs = []
         for i in guarded:
-            g = sm.element(sm.switches[i]).guard(mode.is_on(sm.switches[i])).xreplace(sig_map)
+            raw = sm.element(sm.switches[i]).guard(mode.is_on(sm.switches[i]))
+            assert raw is not None      # guarded: the switch answers a guard in both states
+            g = raw.xreplace(sig_map)
             left = [s for s in g.free_symbols if isinstance(s, Signal)]
             if left:
                 raise _refuse(sm, mode, f"the guard of switch {sm.switches[i]!r} reads {left[0]}, "

@@ -283,7 +283,10 @@ def switched_plan(sp: Any, parameters: list[float], *, step: Optional[float], me
     vr_of.update({sp.input_ids[v.index]: v.vr for v in var if v.kind == "input"})
     runtime = dict(vr_of)
     vr_of.update({sp.parameter_ids[v.index]: v.vr for v in var if v.kind == "parameter"})
-    outs, ders, inits, inds = [], [], [], []
+    outs: list[Unknown] = []
+    ders: list[Unknown] = []
+    inits: list[Unknown] = []
+    inds: list[Unknown] = []
     modes = range(len(sp.modes))
     for v in var:
         if v.kind == "output":

@@ -133,7 +133,7 @@ def test_python_rectifier_diode_turns_off_and_on_where_its_guard_says():
     p = [C, R, VM, W]
     on, off = ns["MODE_ON"].index(1), ns["MODE_ON"].index(0)
     for k, mask in ((on, 1), (off, 0)):
-        dq, v, i, g = rectifier_hand(mask, 2e-3, 5e-4)
+        dq, _, _, g = rectifier_hand(mask, 2e-3, 5e-4)
         assert ns["derivatives"](k, 2e-3, [5e-4], [], p) == pytest.approx([dq], rel=1e-12)
         assert ns["guards"](k, 2e-3, [5e-4], [], p) == pytest.approx([g], rel=1e-12)
     # the diode's current falls through zero at tan(w t) = -w R C: the diode turns off, and its
@@ -167,6 +167,7 @@ def test_linear_capacitors_joined_share_their_charge():
     ns = python_module(SwitchedModel(g))
     c1, kk, q1, q2 = 2.0, 0.25, 3.0, 1.0
     mode, x, loss = ns["select"](1, 0, 0, 1e-9, 1.0, [q1, q2], [], [c1, kk])
+    assert ns["MODES"][mode] == "S on"
     # equal voltages q1'/C1 = k q2' with q1' + q2' = q1 + q2 (charge conserved, Kirchhoff)
     q2n = (q1 + q2) / (1 + c1 * kk)
     assert x == pytest.approx([q1 + q2 - q2n, q2n], rel=1e-14)

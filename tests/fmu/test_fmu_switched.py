@@ -65,7 +65,8 @@ def rectifier_by_hand(t_end):
         offs.append(t_off)
         v_off = VM * math.sin(W * t_off)
         lo = (k + 1) * 2 * math.pi / W
-        t_on = brentq(lambda t: VM * math.sin(W * t) - v_off * math.exp(-(t - t_off) / TAU),
+        t_on = brentq(lambda t, v_off=v_off, t_off=t_off: VM * math.sin(W * t)
+                      - v_off * math.exp(-(t - t_off) / TAU),
                       lo, lo + math.pi / (2 * W), xtol=1e-15)
         if t_on > t_end:
             break
