@@ -11,10 +11,12 @@ import pytest
 import sympy
 
 import bondgraph as bg
-from bondgraph.codegen import SwitchedExportError, generate_switched_c, generate_switched_python
+from bondgraph.codegen import (SwitchedExportError, generate_switched_c, generate_switched_matlab,
+                               generate_switched_python)
 from bondgraph.hybrid import ControlledSwitch, SwitchedModel, library
 
 CC = shutil.which("cc") or shutil.which("gcc")
+OCTAVE = shutil.which("octave-cli") or shutil.which("octave")
 needs_cc = pytest.mark.skipif(CC is None, reason="no C compiler (cc) on PATH")
 STRICT = ["-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror", "-fPIC", "-shared"]
 VM, W, R, C = 10.0, 2 * math.pi * 50, 100.0, 1e-4
@@ -155,6 +157,33 @@ def test_python_clutch_lock_matches_newton():
     assert ns["MODES"][mode] == "K off"
     assert x == pytest.approx(q_new, rel=1e-14) and loss == pytest.approx(lost, rel=1e-14)
     assert ns["outputs"](mode, 1.5, x, [1.0], [J1, J2, TL]) == pytest.approx([7 / 3, 7 / 3])
+
+
+@pytest.mark.skipif(OCTAVE is None, reason="octave not installed")
+def test_matlab_modes_in_octave_against_the_hand_results(tmp_path):
+    (tmp_path / "clutch_sw.m").write_text(generate_switched_matlab(clutch(), name="clutch_sw"))
+    (tmp_path / "rect_sw.m").write_text(generate_switched_matlab(rectifier(), name="rect_sw"))
+    script = (
+        "info = clutch_sw(); k = find(info.mode_on == 0);"
+        "[xd, y, g, xn, H] = clutch_sw(k, 1.5, [1; 6], 1, struct('J1', 1, 'J2', 2, 't_lock', 1));"
+        "printf('%.17g ', xd, y, g, xn, H); printf('\\n');"
+        "info = rect_sw();"
+        "for k = 1:2 [xd, y, g] = rect_sw(k, 2e-3, 5e-4, [], [1e-4; 100; 10; 100*pi]);"
+        "printf('%d %.17g %.17g %.17g %.17g ', info.mode_on(k), xd, y, g); end; printf('\\n');")
+    out = subprocess.run([OCTAVE, "--no-gui", "--quiet", "--norc", "--no-history", "--eval", script],
+                         cwd=tmp_path, capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+    clutch_line, rect_line = out.stdout.strip().splitlines()
+    xd1, xd2, w1, w2, g, xn1, xn2, h = map(float, clutch_line.split())
+    q_new, _ = clutch_lock_hand(1.0, 3.0)
+    # engaged: (J1 + J2) w' = tau split by the inertias; w = p_J1/J1; guard t - t_lock; energy
+    assert [xd1, xd2, w1, w2, g] == pytest.approx([1 / 3, 2 / 3, 1.0, 1.0, 0.5], rel=1e-15)
+    assert [xn1, xn2] == pytest.approx(q_new, rel=1e-15)
+    assert h == pytest.approx(1 / 2 + 36 / 4, rel=1e-15)
+    vals = rect_line.split()
+    for j in range(2):
+        on, dq, v, i, g = int(vals[5 * j]), *map(float, vals[5 * j + 1:5 * j + 5])
+        assert [dq, v, i, g] == pytest.approx(list(rectifier_hand(on, 2e-3, 5e-4)), rel=1e-13, abs=1e-15)
 
 
 def test_linear_capacitors_joined_share_their_charge():
