@@ -84,6 +84,8 @@ CORE = r"""/* bg_fmu_core.h -- the FMI-version-independent part of a bondgraph F
 #include "bg_fmu_config.h"
 
 #define BG_ALLOC(n) ((n) > 0 ? (n) : 1)
+/* switched models: a switch changing this many times within the chatter window chatters */
+#define BG_CHATTER_COUNT 20
 
 enum { BG_TIME, BG_STATE, BG_DER, BG_INPUT, BG_OUTPUT, BG_PARAM, BG_STEP, BG_INDICATOR };
 enum { BG_INSTANTIATED, BG_INIT, BG_EVENT, BG_CONTINUOUS, BG_STEPPING, BG_TERMINATED };
@@ -107,7 +109,10 @@ struct bg_instance {
     int xdot_ok, y_ok;
     int mode;
     double sw_event_time;       /* switched models: the time of the last mode change ... */
-    long sw_event_count;        /* ... and how many happened at that instant */
+    long sw_event_count;        /* ... and how many happened at that instant; */
+    double sw_window;           /* the chatter window: 1e-6 of the run, 0 when not known; */
+    double sw_recent[BG_ALLOC(BG_NZ)][BG_CHATTER_COUNT];   /* each guard's last firings */
+    long sw_fired[BG_ALLOC(BG_NZ)];
     int cosim;
     int logging;
     char *name;
@@ -340,6 +345,12 @@ static void bg_set_time(bg_instance *c, double t)
 {
     c->d.time = t;
     bg_changed(c);
+}
+
+/* the run's horizon, when the importer gives it: a switched model's chatter window */
+static void bg_set_horizon(bg_instance *c, int stop_defined, double start, double stop)
+{
+    c->sw_window = stop_defined && stop > start ? 1e-6 * (stop - start) : 0.0;
 }
 
 #if BG_SWITCHED

@@ -57,8 +57,9 @@ void fmi2FreeInstance(fmi2Component c) { bg_free(C_); }
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fmi2Real tolerance,
                                fmi2Real startTime, fmi2Boolean stopTimeDefined, fmi2Real stopTime)
 {
-    (void)toleranceDefined; (void)tolerance; (void)stopTimeDefined; (void)stopTime;
+    (void)toleranceDefined; (void)tolerance;
     bg_set_time(C_, startTime);
+    bg_set_horizon(C_, stopTimeDefined, startTime, stopTime);
     return fmi2OK;
 }
 

@@ -92,8 +92,9 @@ fmi3Status fmi3EnterInitializationMode(fmi3Instance instance, fmi3Boolean tolera
                                        fmi3Float64 tolerance, fmi3Float64 startTime,
                                        fmi3Boolean stopTimeDefined, fmi3Float64 stopTime)
 {
-    (void)toleranceDefined; (void)tolerance; (void)stopTimeDefined; (void)stopTime;
+    (void)toleranceDefined; (void)tolerance;
     bg_set_time(C_, startTime);
+    bg_set_horizon(C_, stopTimeDefined, startTime, stopTime);
     C_->mode = BG_INIT;
     return fmi3OK;
 }

@@ -23,7 +23,10 @@ the switching:
   checked; no energy lost if possible, then fewest flips) and the state is
   re-initialised -- ``valuesOfContinuousStatesChanged`` is then true.  No
   consistent mode is a sliding mode: the call fails naming the switch and
-  the time; so do more than 100 mode changes at one instant;
+  the time; so do more than 100 mode changes at one instant, and one switch
+  changing 20 times within 1e-6 of the run (the importer's start to stop
+  time; without a stop time, 1e-6 of ``max(1, |t|)`` seconds): chattering,
+  as :func:`bondgraph.hybrid.simulate` reports it;
 * Co-Simulation steps with the fixed RK4 step (``rk4_step``), checks the
   indicators after every step, and locates a sign change by bisection of
   the RK4 step to the rounding of the time (about 1e-15 relative), then
@@ -135,6 +138,34 @@ static int bg_sw_change(bg_instance *c, unsigned long proposed, unsigned long fr
     return BG_OK;
 }
 
+/* one switch firing BG_CHATTER_COUNT times within the window (1e-6 of the run, else of
+ * max(1, |t|) s) is a sliding mode: an error naming it, never an endless run */
+static int bg_sw_chatters(bg_instance *c, unsigned long fired)
+{
+    double window = c->sw_window > 0.0 ? c->sw_window : 1e-6 * (fabs(c->d.time) > 1.0 ? fabs(c->d.time) : 1.0);
+    char name[64], message[320];
+    int j;
+    for (j = 0; j < BG_NZ; ++j) {
+        long n;
+        double oldest;
+        if (!((fired >> BG_SW_GUARD_SWITCH[j]) & 1UL)) continue;
+        n = c->sw_fired[j]++;
+        c->sw_recent[j][n % BG_CHATTER_COUNT] = c->d.time;
+        if (n + 1 < BG_CHATTER_COUNT) continue;
+        oldest = c->sw_recent[j][(n + 1) % BG_CHATTER_COUNT];
+        if (c->d.time - oldest <= window) {
+            bg_sw_name(1UL << BG_SW_GUARD_SWITCH[j], name, sizeof name);
+            snprintf(message, sizeof message, "switch %.60s chatters: %d mode changes within %.3g s up "
+                     "to t = %.17g (a sliding mode: its guard is driven to zero from both sides); add "
+                     "the dynamics that decide it or a hysteresis in its gate", name, BG_CHATTER_COUNT,
+                     c->d.time - oldest, c->d.time);
+            bg_fail(c, message);
+            return BG_ERROR;
+        }
+    }
+    return BG_OK;
+}
+
 static int bg_event_start(bg_instance *c)
 {
     if (!bg_all_finite(c->d.x, BG_NX)) {
@@ -163,6 +194,7 @@ static int bg_event_update(bg_instance *c, int *changed)
         c->sw_event_time = c->d.time;
         c->sw_event_count = 1;
     }
+    if (bg_sw_chatters(c, fired) != BG_OK) return BG_ERROR;
     /* back onto the current mode's constraint, then the change */
     BG_SW_ENTER(c->d.sw_mode, c->d.time, c->d.x, c->d.u, c->d.p, xs);
     if (BG_NX > 0) memcpy(c->d.x, xs, sizeof xs);

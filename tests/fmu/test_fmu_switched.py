@@ -219,3 +219,27 @@ def test_a_nonlinear_re_initialisation_is_refused_naming_the_mode():
         g.connect(tail, head)
     with pytest.raises(FMUError, match=r"mode \(S on\): C2 in derivative causality .* not a linear map"):
         build_fmu(SwitchedModel(g), values={"C1": 1, "k": 1, "k3": 1}, binary=False)
+
+
+def test_a_chattering_switch_stops_the_fmu_naming_it(tmp_path):
+    # q' = I = 1 while S is open; S closes when q > 0 and then drains (q + 3)/R > I: the switch
+    # is driven back and forth at q = 0 from t = 2 on (a sliding mode)
+    g = bg.BondGraph("relay")
+    g.add(bg.Sf("I", value=1), bg.Zero("v"), bg.C("C"), bg.One("b"),
+          ControlledSwitch("S", gate=bg.displacement("C")), bg.R("R"), bg.Se("E", value=3))
+    for tail, head in [("I", "v"), ("v", "C"), ("v", "b"), ("b", "S"), ("b", "R"), ("E", "b")]:
+        g.connect(tail, head)
+    path = tmp_path / "relay.fmu"
+    path.write_bytes(build_fmu(SwitchedModel(g), fmi=2, values={"C": 1, "R": 1}, step=1e-3))
+    for kind in ("ModelExchange", "CoSimulation"):
+        messages = []
+
+        def logger(env, instance, status, category, message, messages=messages):
+            messages.append(message.decode())
+
+        with pytest.raises(fmpy.fmi1.FMICallException):
+            simulate_fmu(str(path), fmi_type=kind, stop_time=5.0, start_values={"q_C": -2.0},
+                         logger=logger, timeout=60)
+        (msg,) = [m for m in messages if "chatters" in m]
+        t = float(msg.split("up to t = ")[1].split()[0])
+        assert msg.startswith("switch S chatters") and t == pytest.approx(2.0, abs=1e-6)   # q = -2 + t
