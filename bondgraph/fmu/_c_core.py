@@ -136,6 +136,9 @@ static void bg_reset(bg_instance *c)
     for (i = 0; i < BG_NP; ++i) c->d.p[i] = bg_default_p[i];
     c->d.h = BG_DEFAULT_STEP;
     c->d.sw_mode = BG_INITIAL_MODE;
+    c->sw_event_time = -HUGE_VAL;
+    c->sw_event_count = 0;
+    memset(c->sw_fired, 0, sizeof c->sw_fired);
     c->xdot_ok = c->y_ok = 0;
     c->mode = BG_INSTANTIATED;
 }

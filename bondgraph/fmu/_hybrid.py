@@ -124,8 +124,14 @@ static int bg_sw_change(bg_instance *c, unsigned long proposed, unsigned long fr
     char name[64], message[256];
     int mode = BG_SW_SELECT(proposed, free_mask, free_mask, BG_GUARD_TOL, c->d.time, c->d.x, c->d.u,
                             c->d.p, &loss);
+    if (mode < 0 && !trigger) {
+        snprintf(message, sizeof message, "no consistent initial mode at t = %.17g: every combination "
+                 "of the switches' states violates a guard (check the states' start values)", c->d.time);
+        bg_fail(c, message);
+        return BG_ERROR;
+    }
     if (mode < 0) {
-        bg_sw_name(trigger ? trigger : free_mask, name, sizeof name);
+        bg_sw_name(trigger, name, sizeof name);
         snprintf(message, sizeof message, "switch %.60s has no consistent state at t = %.17g: every "
                  "mode violates a diode's guard (a sliding mode: it would flip at every step)", name,
                  c->d.time);
@@ -153,7 +159,7 @@ static int bg_sw_chatters(bg_instance *c, unsigned long fired)
         c->sw_recent[j][n % BG_CHATTER_COUNT] = c->d.time;
         if (n + 1 < BG_CHATTER_COUNT) continue;
         oldest = c->sw_recent[j][(n + 1) % BG_CHATTER_COUNT];
-        if (c->d.time - oldest <= window) {
+        if (c->d.time >= oldest && c->d.time - oldest <= window) {
             bg_sw_name(1UL << BG_SW_GUARD_SWITCH[j], name, sizeof name);
             snprintf(message, sizeof message, "switch %.60s chatters: %d mode changes within %.3g s up "
                      "to t = %.17g (a sliding mode: its guard is driven to zero from both sides); add "
