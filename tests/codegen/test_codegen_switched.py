@@ -13,7 +13,7 @@ import sympy
 import bondgraph as bg
 from bondgraph.codegen import (SwitchedExportError, generate_switched_c, generate_switched_matlab,
                                generate_switched_python)
-from bondgraph.hybrid import ControlledSwitch, SwitchedModel, library
+from bondgraph.hybrid import ControlledSwitch, Diode, SwitchedModel, library
 
 CC = shutil.which("cc") or shutil.which("gcc")
 OCTAVE = shutil.which("octave-cli") or shutil.which("octave")
@@ -224,3 +224,13 @@ def test_not_a_switched_model_is_refused():
     g.connect("F", "m")
     with pytest.raises(bg.BondGraphError, match="expected a switched model"):
         generate_switched_c(bg.derive(g))
+
+
+def test_a_mode_needing_input_derivatives_is_refused_naming_it():
+    # the source as an input: with the diode on, the capacitor follows it, i_C = C dVs/dt
+    g = bg.BondGraph("rect_in")
+    g.add(bg.Se("Vs"), bg.One("i"), Diode("D", on=True), bg.Zero("v"), bg.R("R"), bg.C("C"))
+    for tail, head in [("Vs", "i"), ("i", "D"), ("i", "v"), ("v", "R"), ("v", "C")]:
+        g.connect(tail, head)
+    with pytest.raises(SwitchedExportError, match=r"mode \(D on\).*time derivatives of the inputs dVs/dt"):
+        generate_switched_c(SwitchedModel(g))
