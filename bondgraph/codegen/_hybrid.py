@@ -206,7 +206,7 @@ def prepare_switched(sm, *, reserved: Iterable[str], matlab: bool = False,
         rhs = []
         for k in range(nq):
             rhs.append(f[x.index(rows_of[Q[k]])] if Q[k] in rows_of else rate(q_exprs[k]))
-        for i, sig in enumerate(sig_list):
+        for sig in sig_list:
             if sig in own:
                 j = next(jj for jj, (_, s2) in enumerate(full.integrators) if s2 == sig)
                 rhs.append(f[n + j])

@@ -296,7 +296,7 @@ def switched_plan(sp: Any, parameters: list[float], *, step: Optional[float], me
     for i, n in enumerate(state_names):
         var.append(Variable(n, len(var), "state", i, "local", "continuous", "exact", 0.0,
                             "stored quantity or integrated signal (every mode)", nominal=nominals[i]))
-    for i, n in enumerate(state_names):
+    for i in range(len(state_names)):
         var.append(Variable(der_names[i], len(var), "derivative", i, "local", "continuous", "calculated",
                             None, f"time derivative of state {i + 1} in the current mode",
                             derivative_of=1 + i))
