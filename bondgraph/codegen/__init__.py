@@ -14,6 +14,11 @@ inputs and outputs as derived, parameters sorted by name
   ``NAME_step_rk4``.
 * :func:`generate_matlab` / :func:`write_matlab` -- ``[xdot, y] = NAME(t, x, u, p)``.
 * :func:`generate_python` / :func:`write_python` -- a module using only :mod:`math`.
+* :func:`generate_switched_c` / :func:`generate_switched_python` /
+  :func:`generate_switched_matlab` -- a switched model
+  (:mod:`bondgraph.hybrid`): a table of its reachable modes with their
+  right-hand sides, outputs, guards and re-initialisations
+  (:mod:`bondgraph.codegen.switched`, :mod:`bondgraph.codegen.switched_matlab`).
 
 Names never reach the generated text raw.  Function names and the C prefix
 must be identifiers (matched whole, so ``"abc\\n"`` is refused); every other
@@ -45,6 +50,10 @@ from ._common import CodegenError
 from .c import CCode, generate_c, write_c
 from .matlab import generate_matlab, write_matlab
 from .python import generate_python, write_python
+from .switched import (SwitchedCCode, SwitchedExportError, generate_switched_c,
+                       generate_switched_python)
+from .switched_matlab import generate_switched_matlab
 
 __all__ = ["CodegenError", "CCode", "generate_c", "write_c", "generate_matlab", "write_matlab",
-           "generate_python", "write_python"]
+           "generate_python", "write_python", "SwitchedCCode", "SwitchedExportError",
+           "generate_switched_c", "generate_switched_python", "generate_switched_matlab"]

@@ -37,6 +37,12 @@ the tunable parameter ``rk4_step`` (default: ``step=``, else 0.05 over the
 largest eigenvalue magnitude of the Jacobian at rest with the default
 values, 1-2-5 rounded, within [1e-7, 1e-3] s, see :func:`default_step`).
 
+Switched models (:class:`bondgraph.hybrid.SwitchedModel`): the FMU carries the
+table of reachable modes; Model Exchange exposes one event indicator per
+switch with a guard and changes the mode and re-initialises the state in
+event mode; Co-Simulation steps through the events (see
+:mod:`bondgraph.fmu._hybrid`).
+
 Names: states, inputs and parameters keep the model's names; an output
 named like one of them is the same variable when it is that state
 (``theta`` of the SRV-02), else gets ``_2``; names with characters FMI or
@@ -146,12 +152,12 @@ def _plan_bytes(plan: Plan) -> bytes:
 
 def build_fmu(target: Target, *, fmi: int = 2, kind: str = "both",
               values: Optional[ParameterValues] = None, step: Optional[float] = None,
-              binary: bool = True, cc: Optional[str] = None) -> bytes:
+              binary: bool = True, cc: Optional[str] = None, guard_tol: float = 1e-9) -> bytes:
     """The bytes of an ``.fmu`` archive for ``target`` (see the module docstring).
 
     Parameters
     ----------
-    target : Model or ModelDefinition
+    target : Model, ModelDefinition or SwitchedModel
     fmi : {2, 3}
         FMI version.
     kind : {'me', 'cs', 'both'}
@@ -167,6 +173,9 @@ def build_fmu(target: Target, *, fmi: int = 2, kind: str = "both",
         Compile the binary for this platform; False gives a source-only FMU.
     cc : str, optional
         The C compiler command (default ``$CC``, else ``cc``, ``gcc`` or ``clang``).
+    guard_tol : float, default 1e-9
+        Switched models: a guard is consistent while ``>= -guard_tol`` (as in
+        :func:`bondgraph.hybrid.simulate`).
 
     Returns
     -------
@@ -184,6 +193,13 @@ def build_fmu(target: Target, *, fmi: int = 2, kind: str = "both",
     version, me, cs = _options(fmi, kind, step)
     if not isinstance(binary, bool):
         raise FMUError(f"binary must be True or False; got {binary!r}")
+    from ..hybrid import ModeSet
+
+    if isinstance(target, ModeSet):
+        from ._hybrid import build_switched_fmu
+
+        return build_switched_fmu(target, version=version, me=me, cs=cs, values=values, step=step,
+                                  binary=binary, cc=cc, guard_tol=guard_tol)
     model, parameters = _model_and_values(target, values)
     headers = standard_headers(version)
     identifier = identifier_for(model.name)
@@ -222,7 +238,7 @@ def build_fmu(target: Target, *, fmi: int = 2, kind: str = "both",
 
 def export_fmu(target: Target, path: Union[str, "os.PathLike[str]"], *, fmi: int = 2, kind: str = "both",
                values: Optional[ParameterValues] = None, step: Optional[float] = None,
-               binary: bool = True, cc: Optional[str] = None) -> Path:
+               binary: bool = True, cc: Optional[str] = None, guard_tol: float = 1e-9) -> Path:
     """Write ``target`` as an ``.fmu`` archive at ``path``, all or nothing.
 
     The arguments are those of :func:`build_fmu`; ``path`` must end in
@@ -256,6 +272,7 @@ def export_fmu(target: Target, path: Union[str, "os.PathLike[str]"], *, fmi: int
     p = Path(text)
     if p.suffix.lower() != ".fmu":
         raise FMUError(f"FMU output '{text}' must end in .fmu")
-    data = build_fmu(target, fmi=fmi, kind=kind, values=values, step=step, binary=binary, cc=cc)
+    data = build_fmu(target, fmi=fmi, kind=kind, values=values, step=step, binary=binary, cc=cc,
+                     guard_tol=guard_tol)
     atomic_write(p, lambda fh: fh.write(data), binary=True)
     return p

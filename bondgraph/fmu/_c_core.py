@@ -19,7 +19,8 @@ from ._plan import Plan
 __all__ = ["config_header", "CORE", "KINDS"]
 
 #: variable kinds as the C core numbers them
-KINDS = {"time": 0, "state": 1, "derivative": 2, "input": 3, "output": 4, "parameter": 5, "step": 6}
+KINDS = {"time": 0, "state": 1, "derivative": 2, "input": 3, "output": 4, "parameter": 5, "step": 6,
+         "indicator": 7}
 
 
 def _doubles(values: Sequence[float]) -> str:
@@ -30,8 +31,14 @@ def _ints(values: Sequence[int]) -> str:
     return ", ".join(str(v) for v in values)
 
 
-def config_header(plan: Plan, prefix: str, model_header: str, token: str) -> str:
-    """``bg_fmu_config.h`` for ``plan``; ``prefix`` is the generated C code's symbol prefix."""
+def config_header(plan: Plan, prefix: str, model_header: str, token: str,
+                  switched: Sequence[str] = ()) -> str:
+    """``bg_fmu_config.h`` for ``plan``; ``prefix`` is the generated C code's symbol prefix.
+
+    ``switched``: the configuration lines of a switched model's FMU
+    (:mod:`bondgraph.fmu._hybrid`), which define ``BG_SWITCHED`` 1 and the
+    mode-taking model functions; none for an ordinary model.
+    """
     kinds = [KINDS[v.kind] for v in plan.variables]
     index = [v.index for v in plan.variables]
     n_params = len(plan.parameters)
@@ -45,8 +52,10 @@ def config_header(plan: Plan, prefix: str, model_header: str, token: str) -> str
         f"#define BG_HAS_ME {int(plan.me)}", f"#define BG_HAS_CS {int(plan.cs)}",
         f'#define BG_TOKEN "{token}"',
         f"#define BG_DEFAULT_STEP {repr(float(plan.step)) if plan.step is not None else '1e-3'}",
-        f"#define BG_DERIVATIVES {prefix}_derivatives", f"#define BG_OUTPUTS {prefix}_outputs",
-        f"#define BG_STEP_RK4 {prefix}_step_rk4", "",
+        *(switched or ["#define BG_SWITCHED 0", "#define BG_NZ 0", "#define BG_INITIAL_MODE 0",
+                       f"#define BG_DERIVATIVES(m, t, x, u, p, xdot) {prefix}_derivatives(t, x, u, p, xdot)",
+                       f"#define BG_OUTPUTS(m, t, x, u, p, y) {prefix}_outputs(t, x, u, p, y)",
+                       f"#define BG_STEP_RK4(m, t, h, x, u, p) {prefix}_step_rk4(t, h, x, u, p)"]), "",
         "/* per value reference: kind (0 time, 1 state, 2 derivative, 3 input, 4 output, 5 parameter,",
         " * 6 RK4 step) and index into the array of that kind */",
         f"static const unsigned char bg_vr_kind[BG_NVR] = {{{_ints(kinds)}}};",
@@ -75,8 +84,10 @@ CORE = r"""/* bg_fmu_core.h -- the FMI-version-independent part of a bondgraph F
 #include "bg_fmu_config.h"
 
 #define BG_ALLOC(n) ((n) > 0 ? (n) : 1)
+/* switched models: a switch changing this many times within the chatter window chatters */
+#define BG_CHATTER_COUNT 20
 
-enum { BG_TIME, BG_STATE, BG_DER, BG_INPUT, BG_OUTPUT, BG_PARAM, BG_STEP };
+enum { BG_TIME, BG_STATE, BG_DER, BG_INPUT, BG_OUTPUT, BG_PARAM, BG_STEP, BG_INDICATOR };
 enum { BG_INSTANTIATED, BG_INIT, BG_EVENT, BG_CONTINUOUS, BG_STEPPING, BG_TERMINATED };
 enum { BG_OK = 0, BG_ERROR = 1 };
 
@@ -86,6 +97,8 @@ typedef struct {
     double u[BG_ALLOC(BG_NU)];
     double p[BG_ALLOC(BG_NP)];
     double h;
+    int sw_mode;                      /* switched models: the index of the current mode */
+    double sw_off[BG_ALLOC(BG_NZ)];   /* ... and each guard's offset (hysteresis at entry) */
 } bg_data;
 
 typedef struct bg_instance bg_instance;
@@ -95,6 +108,11 @@ struct bg_instance {
     double y[BG_ALLOC(BG_NY)];
     int xdot_ok, y_ok;
     int mode;
+    double sw_event_time;       /* switched models: the time of the last mode change ... */
+    long sw_event_count;        /* ... and how many happened at that instant; */
+    double sw_window;           /* the chatter window: 1e-6 of the run, 0 when not known; */
+    double sw_recent[BG_ALLOC(BG_NZ)][BG_CHATTER_COUNT];   /* each guard's last firings */
+    long sw_fired[BG_ALLOC(BG_NZ)];
     int cosim;
     int logging;
     char *name;
@@ -117,6 +135,10 @@ static void bg_reset(bg_instance *c)
     memset(&c->d, 0, sizeof c->d);
     for (i = 0; i < BG_NP; ++i) c->d.p[i] = bg_default_p[i];
     c->d.h = BG_DEFAULT_STEP;
+    c->d.sw_mode = BG_INITIAL_MODE;
+    c->sw_event_time = -HUGE_VAL;
+    c->sw_event_count = 0;
+    memset(c->sw_fired, 0, sizeof c->sw_fired);
     c->xdot_ok = c->y_ok = 0;
     c->mode = BG_INSTANTIATED;
 }
@@ -157,7 +179,7 @@ static int bg_all_finite(const double *v, int n)
 static int bg_derivatives(bg_instance *c)
 {
     if (!c->xdot_ok) {
-        if (BG_NX > 0) BG_DERIVATIVES(c->d.time, c->d.x, c->d.u, c->d.p, c->xdot);
+        if (BG_NX > 0) BG_DERIVATIVES(c->d.sw_mode, c->d.time, c->d.x, c->d.u, c->d.p, c->xdot);
         if (!bg_all_finite(c->xdot, BG_NX)) {
             bg_fail(c, "a state derivative is not finite (check the parameters and states)");
             return BG_ERROR;
@@ -170,7 +192,7 @@ static int bg_derivatives(bg_instance *c)
 static int bg_outputs(bg_instance *c)
 {
     if (!c->y_ok) {
-        if (BG_NY > 0) BG_OUTPUTS(c->d.time, c->d.x, c->d.u, c->d.p, c->y);
+        if (BG_NY > 0) BG_OUTPUTS(c->d.sw_mode, c->d.time, c->d.x, c->d.u, c->d.p, c->y);
         if (!bg_all_finite(c->y, BG_NY)) {
             bg_fail(c, "an output is not finite (check the parameters and states)");
             return BG_ERROR;
@@ -190,6 +212,8 @@ static int bg_bad_vr(bg_instance *c, unsigned int vr)
     return 1;
 }
 
+static int bg_indicator(bg_instance *c, unsigned int k, double *value);
+
 static int bg_get(bg_instance *c, unsigned int vr, double *value)
 {
     unsigned int k;
@@ -206,6 +230,7 @@ static int bg_get(bg_instance *c, unsigned int vr, double *value)
         if (bg_outputs(c) != BG_OK) return BG_ERROR;
         *value = c->y[k]; return BG_OK;
     case BG_PARAM: *value = c->d.p[k]; return BG_OK;
+    case BG_INDICATOR: return bg_indicator(c, k, value);
     default: *value = c->d.h; return BG_OK;
     }
 }
@@ -225,7 +250,7 @@ static int bg_set(bg_instance *c, unsigned int vr, double value)
     kind = bg_vr_kind[vr];
     early = c->mode == BG_INSTANTIATED || c->mode == BG_INIT;
     tunable = early || c->mode == BG_EVENT || c->mode == BG_STEPPING;
-    if (kind == BG_TIME || kind == BG_DER || kind == BG_OUTPUT)
+    if (kind == BG_TIME || kind == BG_DER || kind == BG_OUTPUT || kind == BG_INDICATOR)
         return bg_refuse(c, vr, "it is computed by the FMU");
     if (!isfinite(value)) return bg_refuse(c, vr, "the value is not finite");
     if (kind == BG_STATE && !early)
@@ -325,7 +350,26 @@ static void bg_set_time(bg_instance *c, double t)
     bg_changed(c);
 }
 
-/* Co-Simulation: from t to t + H in equal RK4 steps no longer than h, inputs held */
+/* the run's horizon, when the importer gives it: a switched model's chatter window */
+static void bg_set_horizon(bg_instance *c, int stop_defined, double start, double stop)
+{
+    c->sw_window = stop_defined && stop > start ? 1e-6 * (stop - start) : 0.0;
+}
+
+#if BG_SWITCHED
+#include "bg_fmu_events.h"
+#else
+/* no switches: no event indicators, nothing happens at events */
+static int bg_indicator(bg_instance *c, unsigned int k, double *value)
+{ (void)c; (void)k; *value = 0.0; return BG_OK; }
+static int bg_event_indicators(bg_instance *c, double *z, size_t nz)
+{ (void)z; return bg_count(c, nz, 0, "event indicators"); }
+static int bg_event_start(bg_instance *c) { (void)c; return BG_OK; }
+static int bg_event_update(bg_instance *c, int *changed) { (void)c; *changed = 0; return BG_OK; }
+#endif
+
+/* Co-Simulation: from t to t + H in equal RK4 steps no longer than h, inputs held
+ * (a switched model steps through its events: bg_fmu_events.h) */
 static int bg_do_step(bg_instance *c, double t, double H)
 {
     double n, hk;
@@ -348,8 +392,13 @@ static int bg_do_step(bg_instance *c, double t, double H)
     }
     steps = (long)n;
     hk = steps > 0 ? H / (double)steps : 0.0;
+#if BG_SWITCHED
+    (void)k; (void)hk;
+    if (bg_sw_steps(c, t, H, steps) != BG_OK) return BG_ERROR;
+#else
     for (k = 0; k < steps; ++k)
-        if (BG_NX > 0) BG_STEP_RK4(t + (double)k * hk, hk, c->d.x, c->d.u, c->d.p);
+        if (BG_NX > 0) BG_STEP_RK4(c->d.sw_mode, t + (double)k * hk, hk, c->d.x, c->d.u, c->d.p);
+#endif
     c->d.time = t + H;
     bg_changed(c);
     if (!bg_all_finite(c->d.x, BG_NX)) {

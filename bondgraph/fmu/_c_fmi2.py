@@ -57,8 +57,9 @@ void fmi2FreeInstance(fmi2Component c) { bg_free(C_); }
 fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean toleranceDefined, fmi2Real tolerance,
                                fmi2Real startTime, fmi2Boolean stopTimeDefined, fmi2Real stopTime)
 {
-    (void)toleranceDefined; (void)tolerance; (void)stopTimeDefined; (void)stopTime;
+    (void)toleranceDefined; (void)tolerance;
     bg_set_time(C_, startTime);
+    bg_set_horizon(C_, stopTimeDefined, startTime, stopTime);
     return fmi2OK;
 }
 
@@ -67,7 +68,7 @@ fmi2Status fmi2EnterInitializationMode(fmi2Component c) { C_->mode = BG_INIT; re
 fmi2Status fmi2ExitInitializationMode(fmi2Component c)
 {
     C_->mode = C_->cosim ? BG_STEPPING : BG_EVENT;
-    return fmi2OK;
+    return STATUS(bg_event_start(C_));
 }
 
 fmi2Status fmi2Terminate(fmi2Component c) { C_->mode = BG_TERMINATED; return fmi2OK; }
@@ -129,14 +130,14 @@ fmi2Status fmi2EnterEventMode(fmi2Component c) { C_->mode = BG_EVENT; return fmi
 
 fmi2Status fmi2NewDiscreteStates(fmi2Component c, fmi2EventInfo *eventInfo)
 {
-    (void)c;
+    int changed = 0, status = bg_event_update(C_, &changed);
     eventInfo->newDiscreteStatesNeeded = fmi2False;
     eventInfo->terminateSimulation = fmi2False;
     eventInfo->nominalsOfContinuousStatesChanged = fmi2False;
-    eventInfo->valuesOfContinuousStatesChanged = fmi2False;
+    eventInfo->valuesOfContinuousStatesChanged = changed ? fmi2True : fmi2False;
     eventInfo->nextEventTimeDefined = fmi2False;
     eventInfo->nextEventTime = 0.0;
-    return fmi2OK;
+    return STATUS(status);
 }
 
 fmi2Status fmi2EnterContinuousTimeMode(fmi2Component c) { C_->mode = BG_CONTINUOUS; return fmi2OK; }
@@ -156,7 +157,7 @@ fmi2Status fmi2SetContinuousStates(fmi2Component c, const fmi2Real x[], size_t n
 fmi2Status fmi2GetDerivatives(fmi2Component c, fmi2Real derivatives[], size_t nx)
 { return STATUS(bg_get_derivatives(C_, derivatives, nx)); }
 fmi2Status fmi2GetEventIndicators(fmi2Component c, fmi2Real eventIndicators[], size_t ni)
-{ (void)eventIndicators; return STATUS(bg_count(C_, ni, 0, "event indicators")); }
+{ return STATUS(bg_event_indicators(C_, eventIndicators, ni)); }
 fmi2Status fmi2GetContinuousStates(fmi2Component c, fmi2Real x[], size_t nx)
 { return STATUS(bg_get_states(C_, x, nx)); }
 fmi2Status fmi2GetNominalsOfContinuousStates(fmi2Component c, fmi2Real x_nominal[], size_t nx)

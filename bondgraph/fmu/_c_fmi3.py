@@ -92,8 +92,9 @@ fmi3Status fmi3EnterInitializationMode(fmi3Instance instance, fmi3Boolean tolera
                                        fmi3Float64 tolerance, fmi3Float64 startTime,
                                        fmi3Boolean stopTimeDefined, fmi3Float64 stopTime)
 {
-    (void)toleranceDefined; (void)tolerance; (void)stopTimeDefined; (void)stopTime;
+    (void)toleranceDefined; (void)tolerance;
     bg_set_time(C_, startTime);
+    bg_set_horizon(C_, stopTimeDefined, startTime, stopTime);
     C_->mode = BG_INIT;
     return fmi3OK;
 }
@@ -101,7 +102,7 @@ fmi3Status fmi3EnterInitializationMode(fmi3Instance instance, fmi3Boolean tolera
 fmi3Status fmi3ExitInitializationMode(fmi3Instance instance)
 {
     C_->mode = C_->cosim ? BG_STEPPING : BG_EVENT;
-    return fmi3OK;
+    return STATUS(bg_event_start(C_));
 }
 
 fmi3Status fmi3EnterEventMode(fmi3Instance instance) { C_->mode = BG_EVENT; return fmi3OK; }
@@ -240,14 +241,14 @@ fmi3Status fmi3UpdateDiscreteStates(fmi3Instance instance, fmi3Boolean *discrete
                                     fmi3Boolean *valuesOfContinuousStatesChanged,
                                     fmi3Boolean *nextEventTimeDefined, fmi3Float64 *nextEventTime)
 {
-    (void)instance;
+    int changed = 0, status = bg_event_update(C_, &changed);
     *discreteStatesNeedUpdate = fmi3False;
     *terminateSimulation = fmi3False;
     *nominalsOfContinuousStatesChanged = fmi3False;
-    *valuesOfContinuousStatesChanged = fmi3False;
+    *valuesOfContinuousStatesChanged = changed ? fmi3True : fmi3False;
     *nextEventTimeDefined = fmi3False;
     *nextEventTime = 0.0;
-    return fmi3OK;
+    return STATUS(status);
 }
 
 /* Model Exchange */
@@ -270,7 +271,7 @@ fmi3Status fmi3GetContinuousStateDerivatives(fmi3Instance instance, fmi3Float64 
                                              size_t nContinuousStates)
 { return STATUS(bg_get_derivatives(C_, derivatives, nContinuousStates)); }
 fmi3Status fmi3GetEventIndicators(fmi3Instance instance, fmi3Float64 eventIndicators[], size_t nEventIndicators)
-{ (void)eventIndicators; return STATUS(bg_count(C_, nEventIndicators, 0, "event indicators")); }
+{ return STATUS(bg_event_indicators(C_, eventIndicators, nEventIndicators)); }
 fmi3Status fmi3GetContinuousStates(fmi3Instance instance, fmi3Float64 continuousStates[],
                                    size_t nContinuousStates)
 { return STATUS(bg_get_states(C_, continuousStates, nContinuousStates)); }
@@ -278,7 +279,7 @@ fmi3Status fmi3GetNominalsOfContinuousStates(fmi3Instance instance, fmi3Float64 
                                              size_t nContinuousStates)
 { return STATUS(bg_nominals(C_, nominals, nContinuousStates)); }
 fmi3Status fmi3GetNumberOfEventIndicators(fmi3Instance instance, size_t *nEventIndicators)
-{ (void)instance; *nEventIndicators = 0; return fmi3OK; }
+{ (void)instance; *nEventIndicators = BG_NZ; return fmi3OK; }
 fmi3Status fmi3GetNumberOfContinuousStates(fmi3Instance instance, size_t *nContinuousStates)
 { (void)instance; *nContinuousStates = BG_NX; return fmi3OK; }
 

@@ -130,6 +130,8 @@ class Plan:
     n_outputs: int = 0
     experiment: Optional[Experiment] = None
     nominals: tuple[float, ...] = ()
+    #: event indicators (switched models): value reference and dependencies of each
+    indicators: tuple[Unknown, ...] = ()
 
     def of_kind(self, kind: str) -> list[Variable]:
         """The variables of one kind, in value-reference order."""

@@ -34,7 +34,7 @@ def _root(plan: Plan, fmi: int, token: str, generator: str) -> ET.Element:
              "generationTool": generator,
              "variableNamingConvention": "flat"}
     if fmi == 2:
-        attrs["numberOfEventIndicators"] = "0"
+        attrs["numberOfEventIndicators"] = str(len(plan.indicators))
     return ET.Element("fmiModelDescription", attrs)
 
 
@@ -105,8 +105,11 @@ def _unknown(parent: ET.Element, tag: str, u: Unknown, fmi: int) -> None:
 
 def _structure(root: ET.Element, plan: Plan, fmi: int) -> None:
     box = ET.SubElement(root, "ModelStructure")
-    groups = (("Outputs", "Output", plan.outputs), ("Derivatives", "ContinuousStateDerivative", plan.derivatives),
-              ("InitialUnknowns", "InitialUnknown", plan.initial_unknowns))
+    groups: tuple[tuple[str, str, tuple[Unknown, ...]], ...] = (
+        ("Outputs", "Output", plan.outputs), ("Derivatives", "ContinuousStateDerivative", plan.derivatives),
+        ("InitialUnknowns", "InitialUnknown", plan.initial_unknowns))
+    if fmi == 3:    # FMI 2 counts its event indicators in numberOfEventIndicators only
+        groups += (("EventIndicators", "EventIndicator", plan.indicators),)
     for group, tag3, unknowns in groups:
         if fmi == 2:
             if unknowns:
