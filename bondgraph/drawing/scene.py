@@ -487,7 +487,10 @@ def _crossed(p0: Point, c: Optional[Point], p1: Point, boxes: list[Box]) -> int:
     """How many of ``boxes`` (grown by 2 px) the line (or curve) from p0 to p1 passes through."""
     pts = [bezier(p0, c, p1, k / 40) for k in range(41)] if c is not None else [p0, p1]
     segs = list(zip(pts, pts[1:]))
-    return sum(any(segment_hits_box(a, b, box, -2.0) for a, b in segs) for box in boxes)
+    xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+    near = [box for box in boxes if _hit(box, (min(xs) - 3, min(ys) - 3, max(xs) - min(xs) + 6,
+                                               max(ys) - min(ys) + 6))]
+    return sum(any(segment_hits_box(a, b, box, -2.0) for a, b in segs) for box in near)
 
 
 #: bends tried for a bond that would cross a label: control point offsets across the bond,
@@ -580,6 +583,7 @@ def _place_numbers(bonds: list[BondShape], avoid: list[Box]) -> list[BondShape]:
     farther; the first free one wins, else the number stays where it was.
     """
     lines = [list(zip(pts, pts[1:])) for pts in (polyline(b) for b in bonds)]
+    spans = [_span(b) for b in bonds]
     placed: list[Box] = []
     out = []
     for k, b in enumerate(bonds):
@@ -599,7 +603,7 @@ def _place_numbers(bonds: list[BondShape], avoid: list[Box]) -> list[BondShape]:
                     if any(_hit(box, a) for a in avoid) or any(_hit(box, a) for a in placed):
                         continue
                     if any(segment_hits_box(p0, p1, box) for j, segs in enumerate(lines)
-                           for p0, p1 in segs if j != k):
+                           if j != k and _hit(box, spans[j]) for p0, p1 in segs):
                         continue
                     chosen = (mx, my)
                     break
@@ -611,6 +615,14 @@ def _place_numbers(bonds: list[BondShape], avoid: list[Box]) -> list[BondShape]:
         placed.append((at[0] - w / 2, at[1] - h / 2, w, h))
         out.append(replace(b, number_at=at))
     return out
+
+
+def _span(b: BondShape, margin: float = 2.0) -> Box:
+    """A box round a bond's drawn line, ``margin`` px wider on every side."""
+    pts = polyline(b)
+    xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+    return (min(xs) - margin, min(ys) - margin, max(xs) - min(xs) + 2 * margin,
+            max(ys) - min(ys) + 2 * margin)
 
 
 def _hit(a: Box, b: Box) -> bool:
