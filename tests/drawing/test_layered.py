@@ -109,3 +109,33 @@ def test_leaves_beside_their_junction_and_layers_adjacent():
 def test_unknown_root_is_refused():
     with pytest.raises(ValueError, match="root 'x'"):
         layered_layout(["a", "b"], {"a": "1", "b": "0"}, [("a", "b")], root="x")
+
+
+def test_a_long_chain_snakes_within_the_width():
+    # 30 mass-damper cells joined by springs: 59 junctions.  Drawn as the comb's snake, rows of
+    # junctions that all stay in the first row's columns (no drift sideways: it fits 17 cm),
+    # each row holding several junctions (not one tall column)
+    g = bg.BondGraph("chain")
+    g.add(bg.Se("F"))
+    prev = None
+    for i in range(30):
+        g.add(bg.One(f"v{i}"), bg.I(f"m{i}"), bg.R(f"b{i}"))
+        g.connect(f"v{i}", f"m{i}")
+        g.connect(f"v{i}", f"b{i}")
+        if prev is None:
+            g.connect("F", "v0")
+        else:
+            g.add(bg.Zero(f"s{i}"), bg.C(f"k{i}"))
+            g.connect(prev, f"s{i}")
+            g.connect(f"s{i}", f"v{i}")
+            g.connect(f"s{i}", f"k{i}")
+        prev = f"v{i}"
+    sc = build_scene(diagram(g), max_width=17.0)
+    assert printed_size(sc)[0] <= 17.0
+    assert bond_crossings(sc) == [] and bonds_through_labels(sc) == [] and sc.overlaps() == []
+    rows: dict = {}
+    for lb in sc.labels:
+        if lb.role == "junction":
+            rows.setdefault(round(lb.y), []).append(lb.x)
+    counts = [len(rows[y]) for y in sorted(rows)]
+    assert len(counts) >= 3 and all(c >= 4 for c in counts[:-1]), counts     # the last: what is left
