@@ -182,12 +182,20 @@ def _label(lb: Label, latex: bool = False, unit: float = PT_PER_PX) -> list[str]
         out.append(f"\\node[bondgraph text, {font}, text={color}] at {_p((lb.x, lb.y))} "
                    f"{{{text}}};")
     else:
-        out.append(f"\\node[bondgraph label, {font}, text={color}] at {_p((lb.x, lb.y))} "
-                   f"{{{text}}};")
+        out.append(f"\\node[bondgraph label, {font}, text={color}] (bondgraphlabel) at "
+                   f"{_p((lb.x, lb.y))} {{{text}}};")
     if lb.note:
-        note = tex_escape(lb.note, f"name of {what}")
-        out.append(f"\\node[bondgraph note] at {_p(lb.note_at)} "
-                   f"{{{_fit(note, text_width(lb.note, NOTE_FONT) * unit)}}};")
+        note = _fit(tex_escape(lb.note, f"name of {what}"), text_width(lb.note, NOTE_FONT) * unit)
+        if lb.role == "sub" or lb.derivative:
+            out.append(f"\\node[bondgraph note] at {_p(lb.note_at)} {{{note}}};")
+        else:
+            # right after the main text as the document's font sets it (as in the SVG: 1 px
+            # after it, FONT * 0.32 px lower), not where DejaVu Sans would end it
+            dx = _f(unit - 1.0)
+            dy = _f((lb.note_at[1] - lb.y) * unit)
+            out.append(f"\\node[bondgraph note] at "
+                       f"([xshift={dx}pt, yshift=-{dy}pt]bondgraphlabel.east) "
+                       f"{{{note}}};")
     return out
 
 
