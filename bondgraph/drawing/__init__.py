@@ -10,7 +10,9 @@ files are TikZ pictures (a document pdflatex compiles, or the bare
 Jupyter display (``_repr_svg_``) of bond graphs and models.
 
 The pipeline, one module each: :mod:`.source` (what to draw) ->
-:mod:`.layout` (grid cells) -> :mod:`.scene` (geometry in px) ->
+:mod:`.layout` (grid cells: the comb) and :mod:`.layered` (grid cells: a layered,
+Sugiyama-style layout, tried when the comb does not fit the width or crosses
+bonds) -> :mod:`.scene` (geometry in px) ->
 :mod:`.svg` / :mod:`.raster` / :mod:`.tikz` (output); :mod:`.api` holds :func:`draw`.
 
 Examples

@@ -69,7 +69,8 @@ def draw(obj: Drawable, path: Union[str, os.PathLike, None] = None, *,
     max_width : float or None, default 17.0
         Width in cm the figure must fit with its labels printed at
         ``font_pt`` points (17 cm: a two-column page): the main chain wraps
-        into shorter rows until it fits (see
+        into shorter rows, else a layered layout is used, whichever fits
+        with no bond through a label and the fewest crossings (see
         :func:`~bondgraph.drawing.scene.build_scene`); None keeps ``wrap``.
     font_pt : float, default 8.0
         Label size in points the width is reckoned at; the TikZ picture is

@@ -68,13 +68,19 @@ def bonds_through_labels(scene: Scene, *, tolerance: float = 1.0) -> list[tuple[
         own = {_end_node(b.tail, names), _end_node(b.head, names)}
         pts = polyline(b)
         segs = list(zip(pts, pts[1:]))
+        x0, x1 = min(p[0] for p in pts) - 1, max(p[0] for p in pts) + 1
+        y0, y1 = min(p[1] for p in pts) - 1, max(p[1] for p in pts) + 1
+
+        def near(box) -> bool:        # the box reaches the bond's extent at all
+            return box[0] < x1 and x0 < box[0] + box[2] and box[1] < y1 and y0 < box[1] + box[3]
+
         for lb in scene.labels:
-            if lb.name in own:
+            if lb.name in own or not near(lb.box):
                 continue
             if any(segment_hits_box(p, q, lb.box, tolerance) for p, q in segs):
                 found.append((b.number, lb.name))
         for num, box in numbers.items():
-            if num == b.number:
+            if num == b.number or not near(box):
                 continue
             if any(segment_hits_box(p, q, box, tolerance) for p, q in segs):
                 found.append((b.number, f"#{num}"))

@@ -230,30 +230,62 @@ class _Comb:
         return path
 
     def _place(self, path: list[str], sides) -> dict[str, Cell]:
-        # bands: break the path where a row would pass `wrap` columns
-        # (a path that only just passes it stays on one row)
+        # a path that only just passes `wrap` columns stays on one row
         packed = [self._pack(a, b) for a, b in sides]
         u = self._positions(list(range(len(path))), packed, 1)
         if u[-1] + 1 <= self.wrap + self.wrap // 3:
-            bands = [list(range(len(path)))]
-        else:
-            bands, start = [[]], 0
-            for i in range(len(path)):
-                if bands[-1] and u[i] - start >= self.wrap:
-                    bands.append([])
-                if not bands[-1]:
-                    start = u[i]
-                bands[-1].append(i)
-        # at a turn the vertical bond needs its column free on the turning side
+            return self._rows(path, [list(range(len(path)))], packed)
+        # bands: each as long as it stays within the first band's columns (the snake does not
+        # drift sideways), at least two nodes; at a turn the vertical bond needs its column
+        # free on the turning side, so the turning node's items all go to the other side
         pole = _Block({})
-        for k in range(len(bands) - 1):
-            last, first = bands[k][-1], bands[k + 1][0]
-            a, b = sides[last]
-            sides[last] = (a + b, [pole])
-            a, b = sides[first]
-            sides[first] = ([pole], a + b)
-        packed = [self._pack(a, b) for a, b in sides]
 
+        def turned(i: int, first: bool, last: bool) -> tuple[_Block, _Block]:
+            a, b = sides[i]
+            if first:
+                a, b = [pole], a + b
+            if last:
+                a, b = a + b, [pole]
+            return self._pack(a, b)
+
+        bands: list[list[int]] = []
+        final: list[tuple[_Block, _Block]] = [packed[i] for i in range(len(path))]
+        lo = hi = 0
+        col_end, i = 0, 0
+        while i < len(path):
+            k = len(bands)
+            sign = 1 if k % 2 == 0 else -1
+            best = None
+            for j in range(min(i + 2, len(path)), len(path) + 1):
+                band = list(range(i, j))
+                last_band = j == len(path)
+                trial = {n: turned(n, n == i and k > 0, n == j - 1 and not last_band) for n in band}
+                offs = self._positions(band, trial, sign)
+                xs = [col_end + sign * o for o in offs]
+                left = min(x + min(trial[n][0].left, trial[n][1].left, 0) for x, n in zip(xs, band))
+                right = max(x + max(trial[n][0].right, trial[n][1].right, 0) for x, n in zip(xs, band))
+                # (the turning node's own items may stand one column out)
+                inside = (right - left + 1 <= self.wrap) if k == 0 else (left >= lo - 1 and right <= hi + 1
+                                                                         and min(xs) >= lo and max(xs) <= hi)
+                if not inside and best is not None:
+                    break
+                best = (j, trial, xs[-1], left, right)
+            assert best is not None
+            j, trial, x_last, left, right = best
+            if k == 0:
+                lo, hi = left, max(right, left + self.wrap - 1)
+            if len(path) - j == 1:          # the last node joins this band
+                j = len(path)
+                band = list(range(i, j))
+                trial = {n: turned(n, n == i and k > 0, False) for n in band}
+                x_last = col_end + sign * self._positions(band, trial, sign)[-1]
+            for n in range(i, j):
+                final[n] = trial[n]
+            bands.append(list(range(i, j)))
+            col_end, i = x_last, j
+        return self._rows(path, bands, final)
+
+    def _rows(self, path: list[str], bands: list[list[int]], packed) -> dict[str, Cell]:
         cells: dict[str, Cell] = {}
         row = 0
         col_end = 0

@@ -36,6 +36,7 @@ import math
 from dataclasses import dataclass, replace
 from typing import Optional
 
+from .layered import layered_layout, layered_roots
 from .layout import Box, grid_layout, overlapping_pairs
 from .primitives import (FONT, FONT_FAMILY, NOTE_FONT, NUMBER_FONT, TITLE_FONT,  # noqa: F401
                          Point, bezier, polyline, segment_hits_box, text_width)
@@ -264,10 +265,14 @@ def build_scene(diag: Diagram, *, wrap: int = 14, title: bool = True, numbers: b
         Draw the bond numbers.
     max_width : float, optional
         Width in cm the figure must fit when its labels are printed at
-        ``font_pt`` points: the main path wraps into more, shorter rows
-        (``wrap`` lowered step by step down to 2) until it fits with no bond
-        through a label (else the first that fits); the narrowest layout is
-        kept when none fits.
+        ``font_pt`` points.  Candidate layouts are tried in turn: the comb
+        of :func:`grid_layout` with its main path wrapped into more, shorter
+        rows (``wrap`` lowered step by step down to 2), then the layered
+        layouts of :func:`~bondgraph.drawing.layered.layered_layout`.  The
+        first that fits with no bond through a label and no bond crossing
+        is kept; failing that, of those that fit, one with no bond through
+        a label and the fewest crossings (else any that fits); the narrowest
+        when none fits.
     font_pt : float
         Label size in points for ``max_width``.
     latex : bool
@@ -287,43 +292,81 @@ def build_scene(diag: Diagram, *, wrap: int = 14, title: bool = True, numbers: b
     (['Se:V', 'R:R'], [])
     """
     if max_width is None:
-        return _build_scene(diag, wrap, title, numbers, latex)
-    from .geometry import bonds_through_labels, printed_size
+        return _build_scene(diag, _comb_cells(diag, wrap), title, numbers, latex)
+    from .geometry import bond_crossings, bonds_through_labels, printed_size
 
     if not (isinstance(max_width, (int, float)) and math.isfinite(max_width) and max_width > 0):
         from .source import DrawingError
         raise DrawingError(f"max_width must be a positive width in cm; got {max_width!r}")
-    best = fitting = None
-    w = wrap
-    while w >= 2:
-        scene = _build_scene(diag, w, title, numbers, latex)
+    best: Optional[tuple] = None
+    for k, (comb, cells) in enumerate(_candidates(diag, wrap)):
+        scene = _build_scene(diag, cells, title, numbers, latex)
         width = printed_size(scene, font_pt=font_pt)[0]
-        if width <= max_width:
-            if not bonds_through_labels(scene):
-                return scene
-            fitting = fitting or scene       # fits, but a bond runs through a label: try on
-        if best is None or width < best[0]:
-            best = (width, scene)
-        w -= 1       # (the width is not monotonic in the wrap: every one is tried)
+        fits = width <= max_width
+        through = len(bonds_through_labels(scene))
+        crossed = len(bond_crossings(scene)) if fits and not through else 0
+        bent = sum(b.control is not None for b in scene.bonds)
+        length = sum(math.dist(b.start, b.end) for b in scene.bonds)
+        # fitting first, then no bond through a label, fewest crossings; then the first comb,
+        # else the layered layout with the fewest bent bonds and the shortest bonds
+        # (a figure that does not fit at all: the narrowest)
+        key = (bool(scene.overlaps()), not fits, through > 0, crossed, 0.0 if fits else width,
+               not comb, 0 if comb else bent, 0.0 if comb else length, k)
+        if best is None or key < best[0]:
+            best = (key, scene)
+        if comb and fits and not through and not crossed:
+            break
     assert best is not None
-    return fitting or best[1]
+    return best[1]
 
 
-def _build_scene(diag: Diagram, wrap: int, title: bool, numbers: bool, latex: bool) -> Scene:
+def _comb_cells(diag: Diagram, wrap: int) -> dict[str, tuple[int, int]]:
+    return grid_layout([n.name for n in diag.nodes], {n.name: n.role for n in diag.nodes},
+                       [(e.tail, e.head) for e in diag.edges], wrap=wrap)
+
+
+def _candidates(diag: Diagram, wrap: int):
+    """Cell layouts tried to fit a width, best-looking first: the comb with the main path
+    wrapped at ``wrap`` columns, then at fewer, down to 2 (the width is not monotonic in
+    the wrap: every one is tried); then the layered layout from each centre of the junction
+    structure, layers as rows and as columns (:mod:`~bondgraph.drawing.layered`)."""
     names = [n.name for n in diag.nodes]
     roles = {n.name: n.role for n in diag.nodes}
-    cells = grid_layout(names, roles, [(e.tail, e.head) for e in diag.edges], wrap=wrap)
+    edges = [(e.tail, e.head) for e in diag.edges]
+    first = grid_layout(names, roles, edges, wrap=wrap)     # (refuses a wrap below 2)
+    yield True, first
+    seen = [first]
+    for w in range(wrap - 1, 1, -1):
+        cells = grid_layout(names, roles, edges, wrap=w)
+        if cells not in seen:
+            seen.append(cells)
+            yield True, cells
+    for root in layered_roots(names, roles, edges)[:3]:
+        for transpose in (False, True):
+            cells = layered_layout(names, roles, edges, root=root, transpose=transpose)
+            if cells not in seen:
+                seen.append(cells)
+                yield False, cells
+
+
+def _build_scene(diag: Diagram, cells: dict[str, tuple[int, int]], title: bool, numbers: bool,
+                 latex: bool) -> Scene:
     sizes = {n.name: _label_size(n.text, n.note, n.role) for n in diag.nodes}
 
     ncol = max(c for c, _ in cells.values()) + 1
     nrow = max(r for _, r in cells.values()) + 1
-    col_w = [EMPTY] * ncol
+    # a column is as wide as its labels reach left and right of its centre line
+    # (a junction's name hangs to the right only)
+    col_l = [0.0] * ncol
+    col_r = [0.0] * ncol
     row_h = [EMPTY] * nrow
     room = _port_room(diag)
     for name, (c, r) in cells.items():
         _, left, right, h = sizes[name]
-        col_w[c] = max(col_w[c], 2 * max(left, right) + HGAP + 2 * room.get(name, 0.0))
+        col_l[c] = max(col_l[c], left + room.get(name, 0.0))
+        col_r[c] = max(col_r[c], right + room.get(name, 0.0))
         row_h[r] = max(row_h[r], h + VGAP)
+    col_w = [max(EMPTY, a + b + HGAP) for a, b in zip(col_l, col_r)]
     top = MARGIN + (TITLE_FONT + 8 if title else 0)
     # parallel bonds between the same two nodes are spread apart
     groups: dict[frozenset, list[int]] = {}
@@ -337,7 +380,8 @@ def _build_scene(diag: Diagram, wrap: int, title: bool, numbers: bool, latex: bo
     # place everything; bonds bent round labels may stick out: then shift and grow
     dx = dy = grow_x = grow_y = 0.0
     for _ in range(2):
-        xs = _centres(col_w, MARGIN + dx)
+        xs = _centres(col_w, MARGIN + dx, [HGAP / 2 + a if a + b else w / 2
+                                            for a, b, w in zip(col_l, col_r, col_w)])
         ys = _centres(row_h, top - VGAP / 2 + 4 + dy)
         labels = []
         for n in diag.nodes:
@@ -411,10 +455,12 @@ def _port_room(diag: Diagram) -> dict[str, float]:
     return room
 
 
-def _centres(sizes: list[float], start: float) -> list[float]:
+def _centres(sizes: list[float], start: float, offsets: Optional[list[float]] = None) -> list[float]:
+    """Centre lines of consecutive cells of ``sizes`` from ``start`` (at ``offsets`` into
+    each cell; the middle by default)."""
     out, x = [], start
-    for s in sizes:
-        out.append(x + s / 2)
+    for k, s in enumerate(sizes):
+        out.append(x + (offsets[k] if offsets is not None else s / 2))
         x += s
     return out
 
@@ -441,7 +487,10 @@ def _crossed(p0: Point, c: Optional[Point], p1: Point, boxes: list[Box]) -> int:
     """How many of ``boxes`` (grown by 2 px) the line (or curve) from p0 to p1 passes through."""
     pts = [bezier(p0, c, p1, k / 40) for k in range(41)] if c is not None else [p0, p1]
     segs = list(zip(pts, pts[1:]))
-    return sum(any(segment_hits_box(a, b, box, -2.0) for a, b in segs) for box in boxes)
+    xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+    near = [box for box in boxes if _hit(box, (min(xs) - 3, min(ys) - 3, max(xs) - min(xs) + 6,
+                                               max(ys) - min(ys) + 6))]
+    return sum(any(segment_hits_box(a, b, box, -2.0) for a, b in segs) for box in near)
 
 
 #: bends tried for a bond that would cross a label: control point offsets across the bond,
@@ -534,6 +583,7 @@ def _place_numbers(bonds: list[BondShape], avoid: list[Box]) -> list[BondShape]:
     farther; the first free one wins, else the number stays where it was.
     """
     lines = [list(zip(pts, pts[1:])) for pts in (polyline(b) for b in bonds)]
+    spans = [_span(b) for b in bonds]
     placed: list[Box] = []
     out = []
     for k, b in enumerate(bonds):
@@ -553,7 +603,7 @@ def _place_numbers(bonds: list[BondShape], avoid: list[Box]) -> list[BondShape]:
                     if any(_hit(box, a) for a in avoid) or any(_hit(box, a) for a in placed):
                         continue
                     if any(segment_hits_box(p0, p1, box) for j, segs in enumerate(lines)
-                           for p0, p1 in segs if j != k):
+                           if j != k and _hit(box, spans[j]) for p0, p1 in segs):
                         continue
                     chosen = (mx, my)
                     break
@@ -565,6 +615,14 @@ def _place_numbers(bonds: list[BondShape], avoid: list[Box]) -> list[BondShape]:
         placed.append((at[0] - w / 2, at[1] - h / 2, w, h))
         out.append(replace(b, number_at=at))
     return out
+
+
+def _span(b: BondShape, margin: float = 2.0) -> Box:
+    """A box round a bond's drawn line, ``margin`` px wider on every side."""
+    pts = polyline(b)
+    xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+    return (min(xs) - margin, min(ys) - margin, max(xs) - min(xs) + 2 * margin,
+            max(ys) - min(ys) + 2 * margin)
 
 
 def _hit(a: Box, b: Box) -> bool:

@@ -41,7 +41,7 @@ import math
 import re
 from typing import Optional
 
-from .scene import COLORS, FONT, NOTE_FONT, NUMBER_FONT, TITLE_FONT, BondShape, Label, Scene
+from .scene import COLORS, FONT, NOTE_FONT, NUMBER_FONT, TITLE_FONT, BondShape, Label, Scene, text_width
 from .source import DrawingError
 
 __all__ = ["scene_to_tikz", "tex_escape"]
@@ -165,7 +165,7 @@ def latex_label(text: str) -> Optional[str]:
     return f"{kind}:${latex_name(name)}$"
 
 
-def _label(lb: Label, latex: bool = False) -> list[str]:
+def _label(lb: Label, latex: bool = False, unit: float = PT_PER_PX) -> list[str]:
     what = f"element {lb.name!r}"
     text = (latex and latex_label(lb.text)) or tex_escape(lb.text, f"label of {what}")
     x, y, w, h = lb.box
@@ -182,12 +182,29 @@ def _label(lb: Label, latex: bool = False) -> list[str]:
         out.append(f"\\node[bondgraph text, {font}, text={color}] at {_p((lb.x, lb.y))} "
                    f"{{{text}}};")
     else:
-        out.append(f"\\node[bondgraph label, {font}, text={color}] at {_p((lb.x, lb.y))} "
-                   f"{{{text}}};")
+        out.append(f"\\node[bondgraph label, {font}, text={color}] (bondgraphlabel) at "
+                   f"{_p((lb.x, lb.y))} {{{text}}};")
     if lb.note:
-        note = tex_escape(lb.note, f"name of {what}")
-        out.append(f"\\node[bondgraph note] at {_p(lb.note_at)} {{{note}}};")
+        note = _fit(tex_escape(lb.note, f"name of {what}"), text_width(lb.note, NOTE_FONT) * unit)
+        if lb.role == "sub" or lb.derivative:
+            out.append(f"\\node[bondgraph note] at {_p(lb.note_at)} {{{note}}};")
+        else:
+            # right after the main text as the document's font sets it (as in the SVG: 1 px
+            # after it, FONT * 0.32 px lower), not where DejaVu Sans would end it
+            dx = _f(unit - 1.0)
+            dy = _f((lb.note_at[1] - lb.y) * unit)
+            out.append(f"\\node[bondgraph note] at "
+                       f"([xshift={dx}pt, yshift=-{dy}pt]bondgraphlabel.east) "
+                       f"{{{note}}};")
     return out
+
+
+def _fit(tex: str, width_pt: float) -> str:
+    """``tex`` shrunk to ``width_pt`` where the document's font sets it wider than the SVG's
+    (Computer Modern's small optical sizes are wider than DejaVu Sans at 5 pt): a junction's
+    name then stays clear of the bonds beside it."""
+    w = _f(width_pt)
+    return f"\\sbox0{{{tex}}}\\ifdim\\wd0>{w}pt\\resizebox{{{w}pt}}{{!}}{{\\usebox0}}\\else\\usebox0\\fi"
 
 
 def _fonts(font_pt: Optional[float]) -> dict[str, str]:
@@ -234,7 +251,7 @@ def _picture(scene: Scene, font_pt: Optional[float] = None) -> list[str]:
     for b in scene.bonds:
         out.extend(_bond(b, scene.numbers))
     for lb in scene.labels:
-        out.extend(_label(lb, scene.latex))
+        out.extend(_label(lb, scene.latex, unit))
     if scene.legend:
         x0, y0 = scene.legend_at
         out.append("% legend")
