@@ -138,6 +138,10 @@ def solve_algebraic(t, x, u, p, z0=None):
     Newton's method from z0, else from the last solution (kept by the module); retried
     from z = 0 when that fails.  Raises AlgebraicSolveError naming the unknowns, t and x.
     """
+    for what, given, names in (("x", x, STATE_NAMES), ("u", u, INPUT_NAMES),
+                               ("p", p, PARAMETER_NAMES), ("z0", _Z if z0 is None else z0, ALGEBRAIC_NAMES)):
+        if not hasattr(given, "keys") and len(given) != len(names):
+            raise ValueError(f"{{what}} has {{len(given)}} values; expected {{len(names)}} ({{names}})")
     begin = [float(v) for v in (_Z if z0 is None else z0)]
     status, z = _newton(t, x, u, p, list(begin))
     if status and any(v != 0.0 for v in begin):

@@ -111,11 +111,6 @@ def _model_and_values(target: object, values: Optional[ParameterValues]) -> tupl
         model, merged = target, {}
     else:
         raise FMUError(f"expected a bondgraph Model or ModelDefinition; got {type(target).__name__}")
-    if model.algebraic:
-        raise FMUError(
-            f"model {model.name!r} cannot be an FMU: it is implicit (algebraic unknowns "
-            f"{', '.join(model.algebraic_names)}, solved numerically), and FMU export with a "
-            "Newton loop is not implemented yet")
     if model.input_derivatives:
         raise FMUError(
             f"model {model.name!r} cannot be an FMU: its equations use time derivatives of inputs "

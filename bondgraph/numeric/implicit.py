@@ -110,6 +110,10 @@ class ImplicitSolver:
             z = self._newton(t, x, u, p, z0.copy())
             if z is None:
                 z = self._fallback(t, x, u, p, z0)
+            if z is None and np.any(z0 != 0.0):
+                # the warm start may lie in another basin (a diode's loop left in reverse
+                # bias near f = -Is, where dg/dz is huge): Newton from z = 0 once more
+                z = self._newton(t, x, u, p, np.zeros(self.n))
         if z is None:
             m = self.model
             state = ", ".join(f"{s} = {v:g}" for s, v in zip(m.state_names, np.ravel(x)))
