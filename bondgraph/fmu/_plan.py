@@ -257,7 +257,8 @@ def make_plan(model: Model, parameters: Sequence[float], *, step: Optional[float
         implicit = free | through_z if free & z_syms else free
         used = sorted((s for s in implicit & set(knowns)), key=lambda s: vr_of[s])
         deps = tuple(vr_of[s] for s in used)
-        return Unknown(vr, deps, tuple("dependent" if s not in free else _kind_of(expr, s, varying)
+        via_z = through_z if free & z_syms else set()
+        return Unknown(vr, deps, tuple("dependent" if s in via_z else _kind_of(expr, s, varying)
                                        for s in used) if kinds else None)
 
     runtime = set(states) | set(inputs)
