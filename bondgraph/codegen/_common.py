@@ -34,12 +34,13 @@ import sympy
 from sympy.printing.codeprinter import PrintMethodNotImplementedError
 
 from ..errors import BondGraphError
+from ..linear.trim import dirac_free
 from ..model import Model
 from ..signals import t as T_SYM
 
 __all__ = ["CodegenError", "PreparedModel", "prepare", "sanitize", "split_cse", "C_RESERVED",
            "PY_RESERVED", "M_RESERVED", "check_identifier", "check_text", "shown", "header_lines",
-           "TargetPrinter", "write_text"]
+           "TargetPrinter", "write_text", "residual_jacobian"]
 
 
 class CodegenError(BondGraphError, ValueError):
@@ -327,8 +328,6 @@ def prepare(model: Model, *, reserved: Iterable[str], matlab: bool = False,
     outs = tuple(_rename(ex, swap, model) for ex in model.output_exprs)
     implicit: dict = {}
     if model.algebraic:
-        from ._newton import residual_jacobian
-
         res, jac = residual_jacobian(model)
         implicit = dict(algebraic_names=model.algebraic_names, algebraic_ids=ids[n + m + k:],
                         algebraic_origin=model.algebraic_origin,
@@ -343,6 +342,44 @@ def prepare(model: Model, *, reserved: Iterable[str], matlab: bool = False,
     return PreparedModel(model.name, model.state_names, model.input_names, model.output_names,
                          tuple(p.name for p in params), state_ids, input_ids, output_ids,
                          param_ids, rhs, outs, default_values, **implicit)
+
+
+def residual_jacobian(model: Model) -> tuple[tuple[sympy.Expr, ...], tuple[sympy.Expr, ...]]:
+    """The residuals ``g`` and ``dg/dz`` (row-major) of an implicit model, in its own symbols.
+
+    ``dg/dz`` is differentiated in the model's real symbols (``d|z|/dz =
+    sign(z)``); a ``DiracDelta`` (the slope of ``sign`` or ``Heaviside``) is 0
+    away from the jump.
+
+    Examples
+    --------
+    >>> import sympy, bondgraph as bg
+    >>> Is, Vt = sympy.symbols("Is Vt", positive=True)
+    >>> g = bg.BondGraph("diode")
+    >>> g.add(bg.C("C"), bg.One("s"), bg.R("R"), bg.R("D", inverse=Is*(sympy.exp(bg.e/Vt) - 1)))
+    >>> for t, h in [("s", "C"), ("s", "R"), ("s", "D")]: _ = g.connect(t, h)
+    >>> residual_jacobian(bg.derive(g))[1]
+    (1 + Vt/(Is*R*(1 + f_D/Is)),)
+
+    Raises
+    ------
+    CodegenError
+        A residual whose derivative sympy leaves unevaluated (a user
+        function with no derivative), naming the unknown.
+    """
+    z = list(model.algebraic)
+    res = tuple(model.residuals)
+    jac = dirac_free(sympy.Matrix(res).jacobian(z))
+    flat = tuple(jac[i, j] for i in range(len(z)) for j in range(len(z)))
+    for k, entry in enumerate(flat):
+        if entry.atoms(sympy.Derivative, sympy.Subs):
+            i, j = divmod(k, len(z))
+            raise CodegenError(
+                f"model {model.name!r}: the residual of {model.algebraic_names[i]} has no "
+                f"analytic derivative with respect to {model.algebraic_names[j]} ({entry}); "
+                "Newton's method in generated code needs dg/dz: give the law's function a "
+                "derivative (fdiff) or an explicit inverse")
+    return res, flat
 
 
 def _rename(ex: sympy.Expr, swap: dict, model: Model) -> sympy.Expr:

@@ -30,14 +30,6 @@ the same algorithm, written once per language from the constants here:
 
 Examples
 --------
->>> import sympy, bondgraph as bg
->>> Is, Vt = sympy.symbols("Is Vt", positive=True)
->>> g = bg.BondGraph("diode")
->>> g.add(bg.C("C"), bg.One("s"), bg.R("R"), bg.R("D", inverse=Is*(sympy.exp(bg.e/Vt) - 1)))
->>> for t, h in [("s", "C"), ("s", "R"), ("s", "D")]: _ = g.connect(t, h)
->>> res, jac = residual_jacobian(bg.derive(g))
->>> jac
-(1 + Vt/(R*Is*(1 + f_D/Is)),)
 >>> print(failure_text("diode", ("f_D",), ("the flow of R:D",), NOT_FINITE))
 model 'diode': Newton's method found no solution of 0 = g(x, z, u) for the algebraic unknowns f_D (the flow of R:D): a residual or dg/dz is not finite (a law evaluated outside its domain)
 """
@@ -46,15 +38,9 @@ from __future__ import annotations
 
 from typing import Sequence
 
-import sympy
-
-from ..linear.trim import dirac_free
-from ..model import Model
-from ._common import CodegenError
-
 __all__ = ["MAX_ITERATIONS", "HALVINGS", "STEP_RTOL", "DROP", "FLOOR_RTOL", "KICK", "KICKS", "OK",
            "NOT_FINITE", "SINGULAR", "NO_DECREASE", "NO_CONVERGENCE", "REASONS",
-           "residual_jacobian", "failure_text"]
+           "failure_text"]
 
 #: Newton steps per attempt (a warm start needs 1 to 3; a cold start through a diode's knee ~50)
 MAX_ITERATIONS = 100
@@ -79,34 +65,6 @@ REASONS = {
                  "solution there, e.g. a law saturating below the imposed value)",
     NO_CONVERGENCE: f"no convergence in {MAX_ITERATIONS} iterations",
 }
-
-
-def residual_jacobian(model: Model) -> tuple[tuple[sympy.Expr, ...], tuple[sympy.Expr, ...]]:
-    """The residuals ``g`` and ``dg/dz`` (row-major) of an implicit model, in its own symbols.
-
-    ``dg/dz`` is differentiated in the model's real symbols (``d|z|/dz =
-    sign(z)``); a ``DiracDelta`` (the slope of ``sign`` or ``Heaviside``) is 0
-    away from the jump.
-
-    Raises
-    ------
-    CodegenError
-        A residual whose derivative sympy leaves unevaluated (a user
-        function with no derivative), naming the unknown.
-    """
-    z = list(model.algebraic)
-    res = tuple(model.residuals)
-    jac = dirac_free(sympy.Matrix(res).jacobian(z))
-    flat = tuple(jac[i, j] for i in range(len(z)) for j in range(len(z)))
-    for k, entry in enumerate(flat):
-        if entry.atoms(sympy.Derivative, sympy.Subs):
-            i, j = divmod(k, len(z))
-            raise CodegenError(
-                f"model {model.name!r}: the residual of {model.algebraic_names[i]} has no "
-                f"analytic derivative with respect to {model.algebraic_names[j]} ({entry}); "
-                "Newton's method in generated code needs dg/dz: give the law's function a "
-                "derivative (fdiff) or an explicit inverse")
-    return res, flat
 
 
 def failure_text(model_name: str, names: Sequence[str], origins: Sequence[str], status: int) -> str:
