@@ -15,6 +15,12 @@ inputs and outputs as derived, parameters sorted by name
 * :func:`generate_matlab` / :func:`write_matlab` -- ``[xdot, y] = NAME(t, x, u, p)``.
 * :func:`generate_python` / :func:`write_python` -- a module using only :mod:`math`.
 
+An implicit model (algebraic unknowns ``z`` with residuals ``0 = g(x, z,
+u)``) is generated with a damped Newton iteration on the generated ``dg/dz``,
+warm-started from the last ``z``; a failure is a status (C), an
+``AlgebraicSolveError`` (Python) or an ``error`` (MATLAB) naming the
+unknowns (:mod:`bondgraph.codegen._newton`).
+
 Names never reach the generated text raw.  Function names and the C prefix
 must be identifiers (matched whole, so ``"abc\\n"`` is refused); every other
 name (model, states, inputs, outputs, parameters -- a parameter may be any

@@ -37,6 +37,12 @@ the tunable parameter ``rk4_step`` (default: ``step=``, else 0.05 over the
 largest eigenvalue magnitude of the Jacobian at rest with the default
 values, 1-2-5 rounded, within [1e-7, 1e-3] s, see :func:`default_step`).
 
+Implicit models (algebraic unknowns ``z``, ``0 = g(x, z, u)``): the
+generated C solves ``g = 0`` by Newton's method at every evaluation; the
+instance keeps the last ``z`` as the warm start (part of the FMU state),
+the model structure lists the dependencies through ``z``, and a failed
+solve returns an error status with a logged message naming the unknowns.
+
 Names: states, inputs and parameters keep the model's names; an output
 named like one of them is the same variable when it is that state
 (``theta`` of the SRV-02), else gets ``_2``; names with characters FMI or
