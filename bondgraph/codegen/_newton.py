@@ -42,8 +42,9 @@ __all__ = ["MAX_ITERATIONS", "HALVINGS", "STEP_RTOL", "DROP", "FLOOR_RTOL", "KIC
            "NOT_FINITE", "SINGULAR", "NO_DECREASE", "NO_CONVERGENCE", "REASONS",
            "failure_text"]
 
-#: Newton steps per attempt (a warm start needs 1 to 3; a cold start through a diode's knee ~50)
-MAX_ITERATIONS = 100
+#: Newton steps per attempt: a warm start needs 1 to 3; a cold start of a diode written
+#: f = Is (exp(e/Vt) - 1) in a loop about one per Vt of forward voltage (e/Vt up to 709)
+MAX_ITERATIONS = 500
 #: halvings of a step before the line search gives up
 HALVINGS = 40
 #: converged when every step component is below this fraction of its unknown
