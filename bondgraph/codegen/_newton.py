@@ -12,13 +12,15 @@ the same algorithm, written once per language from the constants here:
 3. damped: the step is halved (at most :data:`HALVINGS` times) until the
    largest ``|g_i|`` decreases;
 4. converged when ``g = 0`` exactly; or when a full step with every
-   ``|dz_i| <= STEP_RTOL |z_i|`` has cut the largest ``|g_i|`` below
+   ``|dz_i| <= STEP_RTOL |z_i| + REF_RTOL zref_i`` (``zref_i``: the largest
+   ``|z_i|`` of the start and the iterates, so that an unknown whose root is
+   0 still converges to its rounding noise) has cut the largest ``|g_i|`` below
    ``DROP`` times its value at the start (quadratic convergence: a small
    step alone proves nothing where ``dg/dz`` is huge, as in a diode's loop
    in reverse bias); or when such a small step no longer decreases ``|g|``
    (the rounding floor; the step is not taken); or, when no halving
-   decreases ``|g|``, if the step is below ``FLOOR_RTOL`` of the largest
-   ``|z_i|``.  Otherwise the solve fails;
+   decreases ``|g|``, if every ``|dz_i|`` is below ``FLOOR_RTOL zref_i``.
+   Otherwise the solve fails;
 5. a singular ``dg/dz`` (an orifice ``f |f|`` at ``f = 0``) moves every
    ``z_i`` by ``KICK (1 + |z_i|)``, at most :data:`KICKS` times;
 6. a failure from a non-zero start is retried once from ``z = 0`` (the
@@ -38,7 +40,7 @@ from __future__ import annotations
 
 from typing import Sequence
 
-__all__ = ["MAX_ITERATIONS", "HALVINGS", "STEP_RTOL", "DROP", "FLOOR_RTOL", "KICK", "KICKS", "OK",
+__all__ = ["MAX_ITERATIONS", "HALVINGS", "STEP_RTOL", "REF_RTOL", "DROP", "FLOOR_RTOL", "KICK", "KICKS", "OK",
            "NOT_FINITE", "SINGULAR", "NO_DECREASE", "NO_CONVERGENCE", "REASONS",
            "failure_text"]
 
@@ -49,6 +51,8 @@ MAX_ITERATIONS = 500
 HALVINGS = 40
 #: converged when every step component is below this fraction of its unknown
 STEP_RTOL = 1e-12
+#: ... plus this fraction of the unknown's largest size in the solve (its start included)
+REF_RTOL = 1e-15
 #: reduction of the largest residual that confirms convergence after a small step
 DROP = 1e-6
 #: accepted without a decrease when the step is below this fraction of the largest unknown

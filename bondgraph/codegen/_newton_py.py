@@ -91,6 +91,7 @@ def _newton(t, x, u, p, z):
     """(status, z): damped Newton from z (see bondgraph.codegen._newton)."""
     g = _eval(residuals, t, x, u, p, z)
     norm = start = _maxabs(g)
+    zref = [abs(v) for v in z]      # each unknown's size so far
     if norm == math.inf:
         return {nw.NOT_FINITE}, z
     kicks = 0
@@ -111,7 +112,7 @@ def _newton(t, x, u, p, z):
             if norm == math.inf:
                 return {nw.NOT_FINITE}, z
             continue
-        small = all(abs(d) <= {nw.STEP_RTOL!r} * abs(v) for d, v in zip(dz, z))
+        small = all(abs(d) <= {nw.STEP_RTOL!r} * abs(v) + {nw.REF_RTOL!r} * r for d, v, r in zip(dz, z, zref))
         alpha = 1.0
         for k in range({nw.HALVINGS}):
             zt = [v + alpha * d for v, d in zip(z, dz)]
@@ -123,10 +124,10 @@ def _newton(t, x, u, p, z):
                 return {nw.OK}, z          # at the rounding floor
             alpha *= 0.5
         else:
-            big = _maxabs(z)
-            ok = all(abs(d) <= {nw.FLOOR_RTOL!r} * big for d in dz)
+            ok = all(abs(d) <= {nw.FLOOR_RTOL!r} * r for d, r in zip(dz, zref))
             return ({nw.OK} if ok else {nw.NO_DECREASE}), z
         z, g, norm = zt, gt, trial
+        zref = [max(r, abs(v)) for r, v in zip(zref, z)]
         if small and k == 0 and norm <= {nw.DROP!r} * start:
             return {nw.OK}, z
     return {nw.NO_CONVERGENCE}, z
