@@ -32,8 +32,11 @@ the same algorithm, written once per language from the constants here:
 
 Examples
 --------
->>> print(failure_text("diode", ("f_D",), ("the flow of R:D",), NOT_FINITE))
-model 'diode': Newton's method found no solution of 0 = g(x, z, u) for the algebraic unknowns f_D (the flow of R:D): a residual or dg/dz is not finite (a law evaluated outside its domain)
+>>> import textwrap
+>>> print(textwrap.fill(failure_text("diode", ("f_D",), ("the flow of R:D",), NOT_FINITE), 72))
+model 'diode': Newton's method found no solution of 0 = g(x, z, u) for
+the algebraic unknowns f_D (the flow of R:D): a residual or dg/dz is not
+finite (a law evaluated outside its domain)
 """
 
 from __future__ import annotations

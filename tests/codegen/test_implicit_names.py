@@ -42,7 +42,8 @@ def model() -> bg.Model:
 
 
 def values(rng) -> dict:
-    return {HOSTILE: rng.uniform(0, 100), "z": rng.uniform(100, 600), "plant_solve": rng.uniform(100, 600), "status": rng.uniform(0, 800),
+    return {HOSTILE: rng.uniform(0, 100), "z": rng.uniform(100, 600), "plant_solve": rng.uniform(100, 600),
+            "status": rng.uniform(0, 800),
             "jac": rng.uniform(1e-7, 1e-5), "solve_algebraic": rng.uniform(1e-13, 1e-11),
             "bg_zlast": rng.uniform(0.02, 0.03)}
 
