@@ -20,6 +20,12 @@ inputs and outputs as derived, parameters sorted by name
   right-hand sides, outputs, guards and re-initialisations
   (:mod:`bondgraph.codegen.switched`, :mod:`bondgraph.codegen.switched_matlab`).
 
+An implicit model (algebraic unknowns ``z`` with residuals ``0 = g(x, z,
+u)``) is generated with a damped Newton iteration on the generated ``dg/dz``,
+warm-started from the last ``z``; a failure is a status (C), an
+``AlgebraicSolveError`` (Python) or an ``error`` (MATLAB) naming the
+unknowns (:mod:`bondgraph.codegen._newton`).
+
 Names never reach the generated text raw.  Function names and the C prefix
 must be identifiers (matched whole, so ``"abc\\n"`` is refused); every other
 name (model, states, inputs, outputs, parameters -- a parameter may be any

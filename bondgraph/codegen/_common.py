@@ -34,12 +34,13 @@ import sympy
 from sympy.printing.codeprinter import PrintMethodNotImplementedError
 
 from ..errors import BondGraphError
+from ..linear.trim import dirac_free
 from ..model import Model
 from ..signals import t as T_SYM
 
 __all__ = ["CodegenError", "PreparedModel", "prepare", "sanitize", "split_cse", "C_RESERVED",
            "PY_RESERVED", "M_RESERVED", "check_identifier", "check_text", "shown", "header_lines",
-           "TargetPrinter", "write_text"]
+           "TargetPrinter", "write_text", "residual_jacobian"]
 
 
 class CodegenError(BondGraphError, ValueError):
@@ -275,23 +276,30 @@ class PreparedModel:
     rhs: tuple[sympy.Expr, ...]
     outputs: tuple[sympy.Expr, ...]
     defaults: Optional[tuple[float, ...]]
+    #: implicit models: algebraic unknowns z, residuals 0 = g(t, x, z, u, p) and dg/dz
+    #: (row-major), in the same identifiers (see :mod:`bondgraph.codegen._newton`)
+    algebraic_names: tuple[str, ...] = ()
+    algebraic_ids: tuple[str, ...] = ()
+    algebraic_origin: tuple[str, ...] = ()
+    residuals: tuple[sympy.Expr, ...] = ()
+    jacobian: tuple[sympy.Expr, ...] = ()
 
     @property
     def taken(self) -> set[str]:
-        return set(self.state_ids) | set(self.input_ids) | set(self.parameter_ids) | {"t"}
+        return (set(self.state_ids) | set(self.input_ids) | set(self.parameter_ids)
+                | set(self.algebraic_ids) | {"t"})
 
 
 def prepare(model: Model, *, reserved: Iterable[str], matlab: bool = False,
-            defaults: Optional[Mapping[str, float]] = None) -> PreparedModel:
-    """Rename a model's symbols to identifiers and check it can be generated."""
+            defaults: Optional[Mapping[str, float]] = None,
+            implicit_reserved: Iterable[str] = ()) -> PreparedModel:
+    """Rename a model's symbols to identifiers and check it can be generated.
+
+    ``implicit_reserved`` are further words model symbols must not take when
+    the model is implicit (the names of the generated Newton solver's arrays).
+    """
     if not isinstance(model, Model):
         raise CodegenError(f"expected a bondgraph Model (from bondgraph.derive); got {type(model).__name__}")
-    if model.algebraic:
-        raise CodegenError(
-            f"model {model.name!r} is implicit: it keeps the algebraic unknowns "
-            f"{', '.join(model.algebraic_names)} ({'; '.join(model.algebraic_origin)}), solved "
-            "numerically; code generation with a Newton loop is not implemented yet: simulate "
-            "it with bondgraph.simulate, or give the element an explicit inverse law")
     if model.input_derivatives:
         raise CodegenError(
             f"model {model.name!r}: the equations use time derivatives of inputs "
@@ -300,20 +308,31 @@ def prepare(model: Model, *, reserved: Iterable[str], matlab: bool = False,
     params = model.parameters
     check_text(model.name, what="model name")
     for what, group in (("state", model.state_names), ("input", model.input_names),
-                        ("output", model.output_names), ("parameter", [p.name for p in params])):
+                        ("output", model.output_names), ("parameter", [p.name for p in params]),
+                        ("algebraic unknown", model.algebraic_names),
+                        ("algebraic unknown's origin", model.algebraic_origin)):
         for text in group:
             check_text(text, what=f"model {model.name!r}: {what} name")
-    reserved = set(reserved)
-    names = list(model.state_names) + list(model.input_names) + [p.name for p in params]
+    reserved = set(reserved) | (set(implicit_reserved) if model.algebraic else set())
+    names = (list(model.state_names) + list(model.input_names) + [p.name for p in params]
+             + list(model.algebraic_names))
     ids = sanitize(names, reserved=reserved, matlab=matlab)
-    n, m = len(model.states), len(model.inputs)
-    state_ids, input_ids, param_ids = ids[:n], ids[n:n + m], ids[n + m:]
+    n, m, k = len(model.states), len(model.inputs), len(params)
+    state_ids, input_ids, param_ids = ids[:n], ids[n:n + m], ids[n + m:n + m + k]
     output_ids = sanitize(model.output_names, reserved=reserved, matlab=matlab)
     swap = {T_SYM: sympy.Symbol("t", real=True)}
-    for sym, ident in zip(list(model.states) + list(model.inputs) + list(params), ids):
+    symbols = list(model.states) + list(model.inputs) + list(params) + list(model.algebraic)
+    for sym, ident in zip(symbols, ids):
         swap[sym] = sympy.Symbol(ident, real=True)
     rhs = tuple(_rename(ex, swap, model) for ex in model.rhs)
     outs = tuple(_rename(ex, swap, model) for ex in model.output_exprs)
+    implicit: dict = {}
+    if model.algebraic:
+        res, jac = residual_jacobian(model)
+        implicit = dict(algebraic_names=model.algebraic_names, algebraic_ids=ids[n + m + k:],
+                        algebraic_origin=model.algebraic_origin,
+                        residuals=tuple(_rename(ex, swap, model) for ex in res),
+                        jacobian=tuple(_rename(ex, swap, model) for ex in jac))
     default_values = None
     if defaults is not None:
         from ..numeric.resolve import resolve_parameters
@@ -322,7 +341,45 @@ def prepare(model: Model, *, reserved: Iterable[str], matlab: bool = False,
                                                   known=model.known_parameters).tolist())
     return PreparedModel(model.name, model.state_names, model.input_names, model.output_names,
                          tuple(p.name for p in params), state_ids, input_ids, output_ids,
-                         param_ids, rhs, outs, default_values)
+                         param_ids, rhs, outs, default_values, **implicit)
+
+
+def residual_jacobian(model: Model) -> tuple[tuple[sympy.Expr, ...], tuple[sympy.Expr, ...]]:
+    """The residuals ``g`` and ``dg/dz`` (row-major) of an implicit model, in its own symbols.
+
+    ``dg/dz`` is differentiated in the model's real symbols (``d|z|/dz =
+    sign(z)``); a ``DiracDelta`` (the slope of ``sign`` or ``Heaviside``) is 0
+    away from the jump.
+
+    Examples
+    --------
+    >>> import sympy, bondgraph as bg
+    >>> Is, Vt = sympy.symbols("Is Vt", positive=True)
+    >>> g = bg.BondGraph("diode")
+    >>> g.add(bg.C("C"), bg.One("s"), bg.R("R"), bg.R("D", inverse=Is*(sympy.exp(bg.e/Vt) - 1)))
+    >>> for t, h in [("s", "C"), ("s", "R"), ("s", "D")]: _ = g.connect(t, h)
+    >>> residual_jacobian(bg.derive(g))[1]
+    (1 + Vt/(Is*R*(1 + f_D/Is)),)
+
+    Raises
+    ------
+    CodegenError
+        A residual whose derivative sympy leaves unevaluated (a user
+        function with no derivative), naming the unknown.
+    """
+    z = list(model.algebraic)
+    res = tuple(model.residuals)
+    jac = dirac_free(sympy.Matrix(res).jacobian(z))
+    flat = tuple(jac[i, j] for i in range(len(z)) for j in range(len(z)))
+    for k, entry in enumerate(flat):
+        if entry.atoms(sympy.Derivative, sympy.Subs):
+            i, j = divmod(k, len(z))
+            raise CodegenError(
+                f"model {model.name!r}: the residual of {model.algebraic_names[i]} has no "
+                f"analytic derivative with respect to {model.algebraic_names[j]} ({entry}); "
+                "Newton's method in generated code needs dg/dz: give the law's function a "
+                "derivative (fdiff) or an explicit inverse")
+    return res, flat
 
 
 def _rename(ex: sympy.Expr, swap: dict, model: Model) -> sympy.Expr:

@@ -43,6 +43,12 @@ switch with a guard and changes the mode and re-initialises the state in
 event mode; Co-Simulation steps through the events (see
 :mod:`bondgraph.fmu._hybrid`).
 
+Implicit models (algebraic unknowns ``z``, ``0 = g(x, z, u)``): the
+generated C solves ``g = 0`` by Newton's method at every evaluation; the
+instance keeps the last ``z`` as the warm start (part of the FMU state),
+the model structure lists the dependencies through ``z``, and a failed
+solve returns an error status with a logged message naming the unknowns.
+
 Names: states, inputs and parameters keep the model's names; an output
 named like one of them is the same variable when it is that state
 (``theta`` of the SRV-02), else gets ``_2``; names with characters FMI or
@@ -117,11 +123,6 @@ def _model_and_values(target: object, values: Optional[ParameterValues]) -> tupl
         model, merged = target, {}
     else:
         raise FMUError(f"expected a bondgraph Model or ModelDefinition; got {type(target).__name__}")
-    if model.algebraic:
-        raise FMUError(
-            f"model {model.name!r} cannot be an FMU: it is implicit (algebraic unknowns "
-            f"{', '.join(model.algebraic_names)}, solved numerically), and FMU export with a "
-            "Newton loop is not implemented yet")
     if model.input_derivatives:
         raise FMUError(
             f"model {model.name!r} cannot be an FMU: its equations use time derivatives of inputs "

@@ -53,9 +53,13 @@ def config_header(plan: Plan, prefix: str, model_header: str, token: str,
         f'#define BG_TOKEN "{token}"',
         f"#define BG_DEFAULT_STEP {repr(float(plan.step)) if plan.step is not None else '1e-3'}",
         *(switched or ["#define BG_SWITCHED 0", "#define BG_NZ 0", "#define BG_INITIAL_MODE 0",
-                       f"#define BG_DERIVATIVES(m, t, x, u, p, xdot) {prefix}_derivatives(t, x, u, p, xdot)",
-                       f"#define BG_OUTPUTS(m, t, x, u, p, y) {prefix}_outputs(t, x, u, p, y)",
-                       f"#define BG_STEP_RK4(m, t, h, x, u, p) {prefix}_step_rk4(t, h, x, u, p)"]), "",
+                       f"#define BG_DERIVATIVES(m, t, x, u, p, xdot) {prefix}_derivatives(t, x, u, p BG_Z, xdot)",
+                       f"#define BG_OUTPUTS(m, t, x, u, p, y) {prefix}_outputs(t, x, u, p BG_Z, y)",
+                       f"#define BG_STEP_RK4(m, t, h, x, u, p) {prefix}_step_rk4(t, h, x, u, p BG_Z)"]),
+        "/* implicit models: algebraic unknowns z solved by the model's Newton method */",
+        f"#define BG_NALG {plan.n_algebraic}",
+        *([f"#define BG_STATUS_MESSAGE {prefix}_status_message"] if plan.n_algebraic else []),
+        "",
         "/* per value reference: kind (0 time, 1 state, 2 derivative, 3 input, 4 output, 5 parameter,",
         " * 6 RK4 step) and index into the array of that kind */",
         f"static const unsigned char bg_vr_kind[BG_NVR] = {{{_ints(kinds)}}};",
@@ -99,6 +103,7 @@ typedef struct {
     double h;
     int sw_mode;                      /* switched models: the index of the current mode */
     double sw_off[BG_ALLOC(BG_NZ)];   /* ... and each guard's offset (hysteresis at entry) */
+    double z[BG_ALLOC(BG_NALG)];      /* implicit models: the last solution, Newton's warm start */
 } bg_data;
 
 typedef struct bg_instance bg_instance;
@@ -176,10 +181,27 @@ static int bg_all_finite(const double *v, int n)
     return 1;
 }
 
+#if BG_NALG > 0
+/* the model's Newton method failed: its message names the algebraic unknowns */
+static void bg_newton_failed(bg_instance *c, double t, int status)
+{
+    char message[2048];
+    snprintf(message, sizeof message, "at t = %.17g: %s", t, BG_STATUS_MESSAGE(status));
+    bg_fail(c, message);
+}
+#define BG_CALL(call, t) do { int bg_status_ = (call); \
+    if (bg_status_ != 0) { bg_newton_failed(c, (t), bg_status_); return BG_ERROR; } } while (0)
+#define BG_Z , c->d.z
+#else
+#define BG_CALL(call, t) (void)(call)
+#define BG_Z
+#endif
+
 static int bg_derivatives(bg_instance *c)
 {
     if (!c->xdot_ok) {
-        if (BG_NX > 0) BG_DERIVATIVES(c->d.sw_mode, c->d.time, c->d.x, c->d.u, c->d.p, c->xdot);
+        if (BG_NX > 0) BG_CALL(BG_DERIVATIVES(c->d.sw_mode, c->d.time, c->d.x, c->d.u, c->d.p, c->xdot),
+                               c->d.time);
         if (!bg_all_finite(c->xdot, BG_NX)) {
             bg_fail(c, "a state derivative is not finite (check the parameters and states)");
             return BG_ERROR;
@@ -192,7 +214,8 @@ static int bg_derivatives(bg_instance *c)
 static int bg_outputs(bg_instance *c)
 {
     if (!c->y_ok) {
-        if (BG_NY > 0) BG_OUTPUTS(c->d.sw_mode, c->d.time, c->d.x, c->d.u, c->d.p, c->y);
+        if (BG_NY > 0) BG_CALL(BG_OUTPUTS(c->d.sw_mode, c->d.time, c->d.x, c->d.u, c->d.p, c->y),
+                               c->d.time);
         if (!bg_all_finite(c->y, BG_NY)) {
             bg_fail(c, "an output is not finite (check the parameters and states)");
             return BG_ERROR;
@@ -396,8 +419,10 @@ static int bg_do_step(bg_instance *c, double t, double H)
     (void)k; (void)hk;
     if (bg_sw_steps(c, t, H, steps) != BG_OK) return BG_ERROR;
 #else
-    for (k = 0; k < steps; ++k)
-        if (BG_NX > 0) BG_STEP_RK4(c->d.sw_mode, t + (double)k * hk, hk, c->d.x, c->d.u, c->d.p);
+    for (k = 0; k < steps; ++k) {
+        if (BG_NX > 0) BG_CALL(BG_STEP_RK4(c->d.sw_mode, t + (double)k * hk, hk, c->d.x, c->d.u, c->d.p),
+                               t + (double)k * hk);
+    }
 #endif
     c->d.time = t + H;
     bg_changed(c);

@@ -17,10 +17,17 @@ FMI2_LAYER = r"""/* fmi2Functions.c -- FMI 2.0 layer of a bondgraph FMU (Model E
 static void bg2_log(bg_instance *c, int error, const char *message)
 {
     const fmi2CallbackFunctions *f = (const fmi2CallbackFunctions *)c->callbacks;
+    char safe[4096];
+    size_t i, k = 0;
     if (!f || !f->logger || (!error && !c->logging)) return;
-    /* messages hold no '%': they are safe as the logger's format */
+    /* the message is the logger's format: a '%' (from a model's name) is doubled */
+    for (i = 0; message[i] != '\0' && k + 2 < sizeof safe; ++i) {
+        if (message[i] == '%') safe[k++] = '%';
+        safe[k++] = message[i];
+    }
+    safe[k] = '\0';
     f->logger(f->componentEnvironment, c->name, error ? fmi2Error : fmi2OK,
-              error ? "logStatusError" : "logAll", message);
+              error ? "logStatusError" : "logAll", safe);
 }
 
 #define NONE(n, type) STATUS(bg_none(C_, n, type))

@@ -132,6 +132,7 @@ class Plan:
     nominals: tuple[float, ...] = ()
     #: event indicators (switched models): value reference and dependencies of each
     indicators: tuple[Unknown, ...] = ()
+    n_algebraic: int = 0
 
     def of_kind(self, kind: str) -> list[Variable]:
         """The variables of one kind, in value-reference order."""
@@ -248,12 +249,19 @@ def make_plan(model: Model, parameters: Sequence[float], *, step: Optional[float
             vr_of[inputs[v.index]] = v.vr
         elif v.kind == "parameter":
             vr_of[params[v.index]] = v.vr
-    varying = set(states) | set(inputs) | {T_SYM}
+    z_syms = set(model.algebraic)
+    varying = set(states) | set(inputs) | {T_SYM} | z_syms
+    # an implicit model: what the algebraic unknowns z depend on (every residual, conservatively)
+    through_z: set = set().union(*(r.free_symbols for r in model.residuals)) - z_syms
 
     def unknown(vr: int, expr: sympy.Expr, knowns: Iterable[sympy.Symbol], kinds: bool) -> Unknown:
-        used = sorted((s for s in expr.free_symbols & set(knowns)), key=lambda s: vr_of[s])
+        free = expr.free_symbols
+        implicit = free | through_z if free & z_syms else free
+        used = sorted((s for s in implicit & set(knowns)), key=lambda s: vr_of[s])
         deps = tuple(vr_of[s] for s in used)
-        return Unknown(vr, deps, tuple(_kind_of(expr, s, varying) for s in used) if kinds else None)
+        via_z = through_z if free & z_syms else set()
+        return Unknown(vr, deps, tuple("dependent" if s in via_z else _kind_of(expr, s, varying)
+                                       for s in used) if kinds else None)
 
     runtime = set(states) | set(inputs)
     at_init = runtime | set(params)
@@ -272,7 +280,8 @@ def make_plan(model: Model, parameters: Sequence[float], *, step: Optional[float
     inits.sort(key=lambda u: u.vr)
     return Plan(model.name, identifier, tuple(variables), tuple(outs), tuple(ders), tuple(inits),
                 tuple(float(p) for p in parameters), step, me, cs, n, m, len(model.output_names),
-                defaults.experiment if defaults is not None else None, tuple(float(v) for v in nominals))
+                defaults.experiment if defaults is not None else None, tuple(float(v) for v in nominals),
+                len(model.algebraic))
 
 
 def default_step(model: Model, parameters: Sequence[float]) -> float:

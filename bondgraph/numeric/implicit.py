@@ -110,6 +110,12 @@ class ImplicitSolver:
             z = self._newton(t, x, u, p, z0.copy())
             if z is None:
                 z = self._fallback(t, x, u, p, z0)
+            # last resorts: the warm start may lie in another basin (a diode's loop left in
+            # reverse bias near f = -Is, where dg/dz is huge), and dg/dz may be singular at
+            # z = 0 (orifices f |f| in a network: every slope 0 there)
+            for start in (np.zeros(self.n), np.full(self.n, 1e-3)):
+                if z is None and not np.array_equal(start, z0):
+                    z = self._newton(t, x, u, p, start)
         if z is None:
             m = self.model
             state = ", ".join(f"{s} = {v:g}" for s, v in zip(m.state_names, np.ravel(x)))

@@ -227,14 +227,3 @@ def test_inertia_with_only_an_inverse_law():
     f = brentq(lambda f: 2.0 * f + 0.5 * f**5 - 7.0, 0.0, 7.0, xtol=1e-15)
     assert dyn.outputs(0.0, [7.0], [1.0], p)[0] == pytest.approx(f, rel=1e-12)
     assert dyn.derivatives(0.0, [7.0], [1.0], p)[0] == pytest.approx(1.0 - 3.0 * f, rel=1e-12)
-
-
-def test_code_generation_and_fmu_refuse_implicit_models_by_name():
-    from bondgraph.codegen import CodegenError, generate_python
-    from bondgraph.fmu import build_fmu
-
-    model = diode_circuit()
-    with pytest.raises(CodegenError, match="f_D.*not implemented"):
-        generate_python(model)
-    with pytest.raises(bg.BondGraphError, match="implicit.*f_D"):
-        build_fmu(model, values={**DIODE})
