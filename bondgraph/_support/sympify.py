@@ -77,7 +77,7 @@ def as_expr(value: object, *, what: str,
 
 
 def _has_text(obj: object) -> bool:
-    if isinstance(obj, str):
+    if isinstance(obj, (str, bytes, bytearray)):
         return True
     return isinstance(obj, (list, tuple)) and any(_has_text(x) for x in obj)
 
@@ -96,14 +96,14 @@ def as_matrix(value: object, *, what: str,
     >>> as_matrix([["1"]], what="D")
     Traceback (most recent call last):
     ...
-    bondgraph.errors.ParameterError: D: expected a matrix of numbers or sympy expressions; an entry is a string (text is never parsed)
+    bondgraph.errors.ParameterError: D: expected a matrix of numbers or sympy expressions; an entry is a string or bytes (text is never parsed)
     """
     if isinstance(value, sympy.MatrixBase):
         return sympy.ImmutableMatrix(value)
     obj = value.tolist() if hasattr(value, "tolist") and not isinstance(value, sympy.Basic) else value
     if _has_text(obj):
         raise error(f"{what}: expected a matrix of numbers or sympy expressions; an entry is a "
-                    "string (text is never parsed)")
+                    "string or bytes (text is never parsed)")
     try:
         return sympy.ImmutableMatrix(obj)
     except (TypeError, ValueError, sympy.SympifyError) as exc:

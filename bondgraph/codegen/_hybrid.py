@@ -85,6 +85,8 @@ class SwitchedPrepared:
     energy: sympy.Expr
     defaults: Optional[tuple[float, ...]]
     parameters: tuple[sympy.Symbol, ...] = ()
+    #: no algebraic unknowns: each mode is explicit (the shared C printer asks)
+    algebraic_ids: tuple[str, ...] = ()
 
     @property
     def taken(self) -> set[str]:

@@ -47,6 +47,7 @@ from ..graph import BondGraph
 from .implicit import ImplicitPart
 from .integrators import state_combination
 from .loops import SingularLoopError, compact_linear, solve_blocks
+from .name_policy import twin_symbols
 from .record import StateEquations
 from ..elements.protocol import Element, LocalVariables
 from ..signals import Signal, t as T_SYM
@@ -262,9 +263,10 @@ class _Deriver:
         return self.integrators[sig]
 
     def _check_parameter_names(self, exprs) -> None:
-        """A parameter must not print like a state, an input or time."""
+        """A parameter must not print like a state, an input, time or another parameter."""
         known = (set(self.states) | set(self.input_syms) | set(self.udot.values()) | {T_SYM}
                  | self.implicit.named_symbols())
+        seen: dict[str, sympy.Symbol] = {}
         for ex in exprs:
             for sym in ex.free_symbols - known:
                 if isinstance(sym, sympy.Dummy):
@@ -274,6 +276,8 @@ class _Deriver:
                         f"model {self.flat.name!r}: the parameter {sym.name!r} would print "
                         f"like {self.roles[sym.name]}; rename the element or parameter"
                     )
+                if seen.setdefault(sym.name, sym) != sym:
+                    raise twin_symbols(self.flat.name, seen[sym.name], sym)
 
     # ------------------------------------------------------------ signals
     def _signal_var(self, sig: Signal) -> tuple[int, int]:
@@ -693,3 +697,4 @@ class _Local(LocalVariables):
 
     def resolve(self, expr: sympy.Expr) -> sympy.Expr:
         return self.d._resolve(expr)
+

@@ -24,7 +24,7 @@ import sympy
 from ..errors import NameClashError
 from ..signals import LawVariable, Signal, t as T_SYM
 
-__all__ = ["check_element_symbols"]
+__all__ = ["check_element_symbols", "twin_symbols"]
 
 
 def _symbols(value: Any) -> Iterator[sympy.Symbol]:
@@ -77,3 +77,22 @@ def check_element_symbols(elements: Iterable[Any], roles: Mapping[str, str], mod
                     raise NameClashError(
                         f"model {model!r}: {label} holds the symbol {sym.name!r}, which prints "
                         f"like {role}; rename the parameter")
+
+
+def twin_symbols(model: str, first: sympy.Symbol, second: sympy.Symbol) -> NameClashError:
+    """The error for two different parameter Symbols that print alike (``k`` positive and
+    ``k`` real): one value given by name could not tell them apart.
+
+    Examples
+    --------
+    >>> import sympy
+    >>> print(twin_symbols("m", sympy.Symbol("k", positive=True), sympy.Symbol("k")))
+    model 'm': two different parameter Symbols print as 'k' (assumptions {positive: True} and {}); one value could not tell them apart: use one Symbol, or rename one
+    """
+    def assumed(sym: sympy.Symbol) -> str:
+        given = dict(getattr(sym, "_assumptions_orig", None) or {})
+        return "{" + ", ".join(f"{k}: {v}" for k, v in sorted(given.items())) + "}"
+    return NameClashError(
+        f"model {model!r}: two different parameter Symbols print as {first.name!r} "
+        f"(assumptions {assumed(first)} and {assumed(second)}); one value could not tell them "
+        "apart: use one Symbol, or rename one")

@@ -281,7 +281,7 @@ def make_plan(model: Model, parameters: Sequence[float], *, step: Optional[float
     return Plan(model.name, identifier, tuple(variables), tuple(outs), tuple(ders), tuple(inits),
                 tuple(float(p) for p in parameters), step, me, cs, n, m, len(model.output_names),
                 defaults.experiment if defaults is not None else None, tuple(float(v) for v in nominals),
-                len(model.algebraic))
+                n_algebraic=len(model.algebraic))
 
 
 def default_step(model: Model, parameters: Sequence[float]) -> float:

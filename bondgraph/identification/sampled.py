@@ -193,6 +193,10 @@ def _dlsim(Ad: NDArray, Bd: NDArray, Cd: NDArray, Dd: NDArray, u: NDArray,
     return y
 
 
+#: the working memory :func:`simulate_sampled` may use (Markov parameters and FFTs; 1 GiB)
+MAX_WORK_BYTES = 2**30
+
+
 def simulate_sampled(plant: NumericStateSpace | "control.StateSpace", u: ArrayLike, dt: float,
                      *, input: Channels = None, output: Channels = None, method: str = "zoh",
                      x0: ArrayLike | None = None) -> NDArray[np.float64]:
@@ -253,6 +257,15 @@ def simulate_sampled(plant: NumericStateSpace | "control.StateSpace", u: ArrayLi
             f"({', '.join(ss.input_names[i] for i in ins)}), got {u_arr.shape[1]}")
     if u_arr.shape[0] < 1:
         raise IdentificationError("u: expected at least 1 sample, got 0")
+    n, m, p = ss.nstates, len(ins), len(outs)
+    work = 8 * u_arr.shape[0] * ((n + p) * (m + 1) + p + 8)
+    if work > MAX_WORK_BYTES:
+        raise IdentificationError(
+            f"u: {u_arr.shape[0]:,} samples would need about {work / 2**30:.1f} GiB of working "
+            f"memory ({n} states, {m} inputs, {p} outputs), more than the "
+            f"{MAX_WORK_BYTES / 2**30:.0f} GiB budget (bondgraph.identification.sampled."
+            "MAX_WORK_BYTES); simulate the record in pieces, each starting from the state "
+            "the previous one ends in (x0=)")
     x0_arr = None
     if x0 is not None:
         x0_arr = finite_array(x0, "x0", ndim=(1,))

@@ -95,11 +95,26 @@ def time_span(t_span: Any) -> tuple[float, float]:
     return t0, t1
 
 
-def eval_times(t_eval: Any, t0: float, t1: float) -> Optional[np.ndarray]:
-    """``t_eval`` checked: finite, strictly increasing, within ``[t0, t1]``."""
+#: the largest result a simulation may build: times x (states + outputs + inputs + 1)
+#: doubles, counted twice for the solver's own copy (a budget: 1 GiB)
+MAX_RESULT_BYTES = 2**30
+
+
+def eval_times(t_eval: Any, t0: float, t1: float, width: int = 1) -> Optional[np.ndarray]:
+    """``t_eval`` checked: finite, strictly increasing, within ``[t0, t1]``, and its
+    result (``width`` numbers per time) within :data:`MAX_RESULT_BYTES`."""
     if t_eval is None:
         return None
     expected = f"an increasing sequence of finite times within t_span ({t0:g}, {t1:g})"
+    size = getattr(t_eval, "size", None) if isinstance(t_eval, np.ndarray) else (
+        len(t_eval) if hasattr(t_eval, "__len__") else None)
+    if size is not None and 16 * size * (width + 1) > MAX_RESULT_BYTES:
+        raise NumericError(
+            f"t_eval has {size:,} times: the result ({width} values per time) would need "
+            f"{16 * size * (width + 1) / 2**30:.1f} GiB, more than the "
+            f"{MAX_RESULT_BYTES / 2**30:.0f} GiB budget (bondgraph.numeric.arguments."
+            "MAX_RESULT_BYTES); simulate in pieces (each run's last state is the next x0) or "
+            "ask for fewer times")
     arr = floats(t_eval, "t_eval", expected)
     if arr.ndim == 0:
         arr = arr.reshape(1)

@@ -440,6 +440,13 @@ def _elements_using(model: StateEquations, names: Sequence[str]) -> str:
     return ", ".join(found)
 
 
+def zero_parameters(model: StateEquations, names: Sequence[str], values) -> str:
+    """``"; I:J (J = 0) has a parameter that is zero"`` for a failure message, or ``""``."""
+    zeros = [n for n, v in zip(names, values) if v == 0]
+    culprits = _elements_using(model, zeros) if zeros else ""
+    return f"; {culprits} has a parameter that is zero" if culprits else ""
+
+
 def _real_constant(ex: sympy.Expr, label: str, i: int, j: int, name: str) -> float:
     value = complex(ex)
     if value.imag != 0:

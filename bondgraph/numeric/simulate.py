@@ -41,7 +41,7 @@ from .resolve import ParameterValues, resolve_parameters
 from . import arguments
 from .arguments import METHODS, InputSpec
 from .implicit import with_algebraic
-from .plant import _CompiledModel, control_labels
+from .plant import _CompiledModel, control_labels, zero_parameters
 
 if TYPE_CHECKING:  # imported lazily at run time
     import control
@@ -284,7 +284,8 @@ def _checked_derivatives(dyn: NumericDynamics, t: float, x: np.ndarray, u: np.nd
             f"model {dyn.name!r}: {context}the derivative of state {dyn.state_names[k]} is {dx[k]:g} "
             f"(not finite) at t = {t:g}" + (f" (also of {', '.join(others)})" if others else "")
             + f", with {_named(dyn.state_names, x)}{inputs}; a law is evaluated outside its domain "
-            "(log or sqrt of a negative value, division by zero) or the state overflowed")
+            "(log or sqrt of a negative value, division by zero) or the state overflowed"
+            + zero_parameters(dyn.model, dyn.parameter_names, p))
     return dx
 
 
@@ -396,7 +397,7 @@ def simulate(model: Union[StateEquations, NumericDynamics], values: ParameterVal
     t0, t1 = arguments.time_span(t_span)
     x_init = arguments.initial_state(x0, dyn.state_names)
     ufun, spacing = arguments.input_function(u, m, dyn.input_names)
-    times = arguments.eval_times(t_eval, t0, t1)
+    times = arguments.eval_times(t_eval, t0, t1, len(dyn.state_names) + len(dyn.output_names) + m)
     solver = arguments.solver(method)
     r_tol, a_tol = arguments.tolerances(rtol, atol, len(dyn.state_names))
     step = arguments.step_limit(max_step, spacing)

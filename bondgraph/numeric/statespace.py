@@ -145,6 +145,11 @@ class NumericStateSpace(SignalCounts):
                 raw = np.reshape(np.asarray(raw, dtype=float), expected_shape(shape_of, n, m, p))
             arr = convert(raw, label)
             check_matrix_shape(shape_of, arr.shape, n, m, p, NumericError)
+            values = arr.data if issparse(arr) else arr
+            if not np.all(np.isfinite(values)):
+                where = np.argwhere(~np.isfinite(np.asarray(arr.toarray() if issparse(arr) else arr)))
+                raise NumericError(f"{label}{tuple(int(v) for v in where[0])} is "
+                                   f"{arr[tuple(where[0])]}; a plant's entries must be finite")
             return arr
         for label in "ABCD":
             object.__setattr__(self, label, checked(getattr(self, label), label, label))
@@ -153,6 +158,10 @@ class NumericStateSpace(SignalCounts):
         object.__setattr__(self, "state_shift", tuple(
             checked(M, f"state_shift[{k}]", "B") for k, M in enumerate(self.state_shift)))
         for f, value in zip(("state_names", "input_names", "output_names"), names):
+            twice = sorted({v for v in value if value.count(v) > 1})
+            if twice:
+                raise NumericError(f"{f}: {', '.join(map(repr, twice))} named more than once; "
+                                   "signal names must be distinct")
             object.__setattr__(self, f, value)
         object.__setattr__(self, "parameters",
                            MappingProxyType({str(k): real_value(v, str(k))
@@ -259,6 +268,9 @@ class NumericStateSpace(SignalCounts):
         w = np.atleast_1d(numeric_array(omega, "omega", NumericError))
         if w.ndim != 1:
             raise NumericError(f"omega must be a number or a 1-D array; got shape {w.shape}")
+        if not np.all(np.isfinite(w)):
+            k = int(np.flatnonzero(~np.isfinite(w))[0])
+            raise NumericError(f"omega[{k}] is {w[k]}; frequencies must be finite (rad/s)")
         if self.is_sparse:
             H = sparse_frequency_response(self._solver(), self.A.data, self.B, self.C, self.D, w)
         else:

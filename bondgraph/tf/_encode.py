@@ -104,7 +104,13 @@ def encode_system(A, B, C, D, E, s: sp.Symbol, *, backend: str | None = None) ->
         for i in range(rows):
             irow = []
             for j in range(cols):
-                e = sp.sympify(M[i, j], strict=True)
+                try:
+                    e = sp.sympify(M[i, j], strict=True)
+                except sp.SympifyError:
+                    raise MatrixEntryError(
+                        f"{name}[{i}, {j}]: expected a number or a sympy expression, got "
+                        f"{type(M[i, j]).__name__} {M[i, j]!r:.60} (text and bytes are never "
+                        "parsed)") from None
                 irow.append(len(exprs))
                 if name in ("B", "D") and isinstance(e, sp.Expr) and s in e.free_symbols:
                     # input derivatives: a polynomial in s with parameter coefficients

@@ -107,6 +107,7 @@ class SymbolicTF:
         expr = as_expr(expr, what="expr", error=InvalidOptionError)
         if not isinstance(s, sp.Symbol):
             raise InvalidOptionError(f"s: expected a sympy Symbol, got {type(s).__name__} {s!r}")
+        _check_rational(expr, s)
         return _tf_from_exprs(expr, sp.Integer(1), s, input_name, output_name,
                               normalize, cancel=cancel)
 
@@ -251,6 +252,32 @@ class SymbolicTF:
             return f"{self.output_name}/{self.input_name} = {num}"
         return f"{self.output_name}/{self.input_name} = ({num})/({den})"
 
+
+
+#: the largest degree in ``s`` :meth:`SymbolicTF.from_expr` accepts (a budget: its
+#: polynomials, tables and frequency responses grow with it)
+MAX_DEGREE = 2000
+
+
+def _check_rational(expr: sp.Expr, s: sp.Symbol) -> None:
+    """A finite rational function of ``s`` of moderate degree, else :class:`InvalidOptionError`."""
+    if expr.has(sp.zoo, sp.nan, sp.oo, -sp.oo):
+        raise InvalidOptionError(
+            f"expr: expected a finite rational function of {s}; got {expr} (a division by "
+            "zero or an undefined value)")
+    if not expr.is_rational_function(s):
+        raise InvalidOptionError(
+            f"expr: expected a rational function of {s} (a ratio of polynomials); got {expr}: "
+            "a delay exp(-T s) or a fractional power has no finite-dimensional transfer "
+            "function (approximate a delay with a Pade approximant first)")
+    n, d = sp.fraction(sp.together(expr))
+    for part, what in ((n, "numerator"), (d, "denominator")):
+        if s in part.free_symbols:
+            degree = sp.Poly(part, s).degree() if part.is_polynomial(s) else None
+            if degree is not None and degree > MAX_DEGREE:
+                raise InvalidOptionError(
+                    f"expr: its {what} has degree {degree} in {s}, more than {MAX_DEGREE} "
+                    "(bondgraph.tf.symbolic_tf.MAX_DEGREE)")
 
 
 def _tf_from_exprs(num: sp.Expr, den: sp.Expr, s: sp.Symbol, input_name: str,
