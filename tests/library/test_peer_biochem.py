@@ -15,6 +15,10 @@
 * BondGraphTools' test_nlin_se: A + B = C with A held by an effort source;
   its relations ``dx_B = -E x_B + x_C``, ``dx_C = E x_B - x_C`` where ``E``
   is A's held amount (K = r = 1).
+* BondGraphs.jl's ion pore as its documentation writes it (docs/src/examples.md,
+  from Cudmore et al. 2021): a reaction charging a membrane capacitor through
+  TF(F) and TF(+-z/2), for Na, Cl and K; the Nernst potential and the pole by
+  hand (test_chemical.py has the same physics with one TF(zF/2) per side).
 """
 
 from __future__ import annotations
@@ -25,7 +29,7 @@ import pytest
 import sympy
 
 import bondgraph as bg
-from bondgraph.library.chemical import ReactionNetwork
+from bondgraph.library.chemical import Chemostat, ReactionNetwork, Re
 
 #: BondGraphTools' gas constant (reaction_builder.R) and the tutorial's temperature
 R_BGT, T_SERCA = 8.3144598, 310.0
@@ -140,3 +144,51 @@ def test_held_species_bondgraphtools_nlin_se():
     model = bg.derive(net.graph())
     x1, x2 = model.states
     assert [sympy.expand(r) for r in model.rhs] == [-E * x1 + x2, E * x1 - x2]
+
+
+# ------------------------------------------------------------------ BondGraphs.jl's ion pore
+def _ion_pore_bondgraphs_jl(z, c_e, c_i):
+    """docs/src/examples.md, "Electrochemical System: Ion Pore Transport" (Cudmore et al. 2021).
+
+    As written there: a membrane C = 1 behind TF(F) (n = 96485) on the membrane
+    potential's 0-junction, TF(z/2) from it to the reverse side of the pore and
+    TF(-z/2) to the forward side, chemostats of K = 1, r = 1e-7, R = 8.314,
+    T = 310.  BondGraphs.jl's TF is ``e2 = n e1`` with its ports numbered; ours
+    is ``e1 = n e2`` with port 1 the bond in.  Its TF(F) and TF(z/2) have their
+    bond in at port 2, so our moduli are the same, F and z/2; its TF(-z/2)
+    has its bond in at port 1, so ours is -2/z.
+    """
+    thermo = dict(temperature=310.0, gas_constant=8.314)
+    g = bg.BondGraph("ion_pore")
+    g.add(bg.C("mem", 1), Chemostat("Ie", K=1, amount=c_e, **thermo),
+          Chemostat("Ii", K=1, amount=c_i, **thermo), bg.Zero("potential_mem"),
+          bg.One("flow_f"), bg.One("flow_r"), bg.TF("F", 96485), bg.TF("zf", sympy.Rational(-2, z)),
+          bg.TF("zr", sympy.Rational(z, 2)), Re("pore", r=1e-7, **thermo))
+    for t, h in [("Ie", "flow_f"), ("flow_f", "pore"), ("pore", "flow_r"), ("flow_r", "Ii"),
+                 ("flow_r", "zr"), ("zr", "potential_mem"), ("potential_mem", "zf"),
+                 ("zf", "flow_f"), ("potential_mem", "F"), ("F", "mem")]:
+        g.connect(t, h)
+    return bg.derive(g, outputs={"V": bg.effort("mem")})
+
+
+@pytest.mark.parametrize("ion, z, c_e, c_i, nernst_mV", [
+    ("Na", 1, 0.155, 0.019, 56.07), ("Cl", -1, 0.112, 0.078, -9.664),
+    ("K", 1, 0.005, 0.136, -88.24)])
+def test_ion_pore_as_bondgraphs_jl_writes_it_reaches_the_nernst_potential(ion, z, c_e, c_i,
+                                                                           nernst_mV):
+    """By hand: equilibrium mu_e - z F V/2 = mu_i + z F V/2, V = RT/(zF) ln(c_e/c_i) (the
+    values above, with RT/F = 26.712 mV); the pole -(zF)^2 r sqrt(c_e c_i)/(RT C).  The
+    example plots 1000 ms from V = 0: nine time constants or more, V within 1e-3 of Nernst."""
+    model = _ion_pore_bondgraphs_jl(z, c_e, c_i)
+    RT, F = 8.314 * 310.0, 96485.0
+    V_star = RT / (z * F) * math.log(c_e / c_i)
+    assert V_star * 1e3 == pytest.approx(nernst_mV, abs=0.01)
+    (q,) = model.states
+    f = sympy.lambdify(q, model.rhs[0])
+    assert abs(f(V_star)) <= 1e-12 * abs(f(0.0))            # C = 1: q = V
+    slope = float(sympy.diff(model.rhs[0], q).subs(q, V_star))
+    pole = -(z * F) ** 2 * 1e-7 * math.sqrt(c_e * c_i) / RT
+    assert slope == pytest.approx(pole, rel=1e-9)
+    res = bg.simulate(model, {}, (0.0, 1000.0), [0.0], t_eval=[1000.0], method="LSODA",
+                      rtol=1e-10, atol=1e-14)
+    assert res["V"][-1] == pytest.approx(V_star, rel=1e-3)
