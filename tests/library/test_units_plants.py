@@ -26,7 +26,7 @@ import bondgraph as bg
 from bondgraph.cli import main
 from bondgraph.export import load_json
 from bondgraph.library.thermal import Conduction, HeatCapacity, HeatFlowSource, TemperatureSource
-from bondgraph.library.units import UnitError, ratio_text, unit_dims, unit_text
+from bondgraph.library.units import UnitError, plant_with_units, ratio_text, unit_dims, unit_text
 from bondgraph.modelfile import ModelDefinition
 from bondgraph.numeric import NumericStateSpace
 from bondgraph.numeric.errors import NumericError
@@ -92,6 +92,16 @@ def test_a_definition_with_units_gives_si_numbers_and_a_plant_carrying_its_units
     assert dict(plant.to_sparse().units) == MSD_UNITS
     minimal = plant.minimal()          # its states are combinations: only inputs and outputs kept
     assert dict(minimal.units) == {"F": "newton", "x": "meter", "vel": "meter/second"}
+
+
+def test_plant_with_units_from_a_graph_and_unit_carrying_values():
+    g = _msd_graph()
+    model = bg.derive(g, outputs={"x": bg.displacement("m"), "vel": bg.flow("m")})
+    plant = plant_with_units(model, g, {"m": 2000 * u.gram, "k": 3 * u.newton / u.millimeter,
+                                        "b": 0.04 * u.newton * u.second / u.millimeter},
+                             domains={"F": "translation"})
+    np.testing.assert_allclose(plant.A, [[-20.0, -3000.0], [0.5, 0.0]], rtol=1e-12)
+    assert dict(plant.units) == MSD_UNITS
 
 
 def test_hierarchical_names_and_component_domains_carry_units_to_python_control():

@@ -42,10 +42,10 @@ bondgraph.library.units.check.UnitError: R:b, parameter b: its value has the uni
 from .check import (DOMAINS, Domain, UnitError, UnitReport, bond_domains, check_units, si_values,
                     signal_units)
 from ._fmu import export_fmu_with_units, fmu_with_units
-from .signals import model_units, ratio_text, unit_dims, unit_text
+from .signals import model_units, plant_with_units, ratio_text, unit_dims, unit_text
 from ._export import export_json_with_units, export_mat_with_units
 
 __all__ = ["Domain", "DOMAINS", "UnitError", "UnitReport", "bond_domains", "check_units",
-           "si_values", "signal_units", "model_units", "unit_text", "ratio_text", "unit_dims",
+           "si_values", "signal_units", "model_units", "plant_with_units", "unit_text", "ratio_text", "unit_dims",
            "fmu_with_units", "export_fmu_with_units", "export_mat_with_units",
            "export_json_with_units"]

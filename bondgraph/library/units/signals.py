@@ -31,10 +31,11 @@ import sympy.physics.units as u
 
 from ...graph import BondGraph
 from ...model import Model
+from ...numeric import NumericStateSpace
 from ...signals import t as T_SYM
 from ._dims import NAMED, Dim, Mismatch, Unknown, dims_of, si_value, text, unit_dims
 
-__all__ = ["model_units", "unit_text", "ratio_text", "unit_dims"]
+__all__ = ["model_units", "plant_with_units", "unit_text", "ratio_text", "unit_dims"]
 
 
 def model_units(model: Model, graph: BondGraph, values: Mapping[str, Any], *,
@@ -68,6 +69,37 @@ def model_units(model: Model, graph: BondGraph, values: Mapping[str, Any], *,
         if p in known:
             out[p.name] = known[p]
     return out
+
+
+def plant_with_units(model: Model, graph: BondGraph, values: Mapping[str, Any], *,
+                     domains: Optional[Mapping] = None) -> NumericStateSpace:
+    """The numeric plant at unit-carrying ``values`` (in SI), carrying its signals' units.
+
+    ``values`` as for :func:`model_units` (numbers carrying units are converted
+    to SI, bare numbers taken as SI); the plant's
+    :attr:`~bondgraph.numeric.NumericStateSpace.units` are those of its
+    states, inputs and outputs, which its ``to_control()`` and the ``.mat`` and
+    JSON exports keep.
+
+    Examples
+    --------
+    >>> import bondgraph as bg, sympy.physics.units as u
+    >>> g = bg.BondGraph("rc")
+    >>> g.add(bg.Se("V"), bg.One("i"), bg.R("R"), bg.C("C"))
+    >>> for t, h in [("V", "i"), ("i", "R"), ("i", "C")]: _ = g.connect(t, h)
+    >>> model = bg.derive(g, outputs={"vC": bg.effort("C")})
+    >>> p = plant_with_units(model, g, {"R": 2 * u.kilo * u.ohm, "C": 5 * u.micro * u.farad},
+    ...                      domains={"V": "electrical"})
+    >>> float(p.A[0, 0]), dict(p.units)          # -1/(R C) = -100 per second
+    (-100.0, {'q_C': 'coulomb', 'V': 'volt', 'vC': 'volt'})
+    """
+    from ...numeric import compile_plant
+    from .check import si_values
+
+    dims = model_units(model, graph, values, domains=domains)
+    plant = compile_plant(model).plant(si_values(values))
+    signals = {*plant.state_names, *plant.input_names, *plant.output_names}
+    return plant.with_units({k: text(d) for k, d in dims.items() if k in signals})
 
 
 def unit_text(d: Dim) -> str:
