@@ -20,6 +20,12 @@ unit-free, so models without units work unchanged.
   whose dimension is wrong, naming the element, the parameter and both units.
   Relations touching a bond of unknown domain or a parameter given without
   units are not checked (they are counted in the report).
+* :func:`model_units` gives the units of a derived model's states, inputs and
+  outputs, :func:`plant_with_units` a numeric plant carrying them (kept by
+  ``to_control()`` and the ``.mat``/JSON exports), :func:`fmu_with_units` an
+  FMU whose modelDescription has them; a
+  :class:`~bondgraph.modelfile.ModelDefinition` with unit-carrying parameters
+  hands them to its plants and to the command line's tables and exports.
 
 Examples
 --------
