@@ -52,6 +52,6 @@ from .signals import model_units, plant_with_units, ratio_text, unit_dims, unit_
 from ._export import export_json_with_units, export_mat_with_units
 
 __all__ = ["Domain", "DOMAINS", "UnitError", "UnitReport", "bond_domains", "check_units",
-           "si_values", "signal_units", "model_units", "plant_with_units", "unit_text", "ratio_text", "unit_dims",
-           "fmu_with_units", "export_fmu_with_units", "export_mat_with_units",
-           "export_json_with_units"]
+           "si_values", "signal_units", "model_units", "plant_with_units", "unit_text",
+           "ratio_text", "unit_dims", "fmu_with_units", "export_fmu_with_units",
+           "export_mat_with_units", "export_json_with_units"]
