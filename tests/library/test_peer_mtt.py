@@ -157,3 +157,23 @@ def test_mtt_heated_rod_poles_are_the_discrete_laplacian(heated_rod):
     hand = -(2 - 2 * np.cos(j * np.pi / (N_SEG + 1))) / (R_T * C_T)
     np.testing.assert_allclose(np.sort(plant.eigenvalues().real), np.sort(hand), rtol=1e-9)
     assert np.all(np.abs(plant.eigenvalues().imag) == 0)
+
+
+def test_models_two_tanks_in_units_gives_ogatas_numbers():
+    """models/two_tanks.py: areas 2 and 1 m^2, R = 0.02 and 0.03 bar s/l (= 2e6, 3e6 Pa s/m^3
+    by hand: 1 bar = 1e5 Pa, 1 l = 1e-3 m^3), water; C = A/(rho g)."""
+    from pathlib import Path
+
+    from bondgraph.modelfile import load_model
+
+    d = load_model(Path(__file__).resolve().parents[2] / "models" / "two_tanks.py")
+    assert d.parameters["R1"] == pytest.approx(2e6) and d.parameters["R2"] == pytest.approx(3e6)
+    R1, R2, C1, C2 = 2e6, 3e6, 2 / (1000 * 9.81), 1 / (1000 * 9.81)
+    plant = d.plant()
+    hand = np.roots([R1 * C1 * R2 * C2, R1 * C1 + R2 * C2 + R2 * C1, 1.0])
+    np.testing.assert_allclose(np.sort(plant.eigenvalues().real), np.sort(hand), rtol=1e-10)
+    G = plant.to_tf(input="q.Q", output="q_out")
+    assert float(np.real(G.dcgain())) == pytest.approx(1.0, rel=1e-12)      # Ogata: q2/q(0) = 1
+    assert dict(plant.units) == {"q_t1.C": "meter**3", "q_t2.C": "meter**3",
+                                 "q.Q": "meter**3/second", "q_out": "meter**3/second",
+                                 "p1": "pascal", "p2": "pascal"}
