@@ -192,3 +192,25 @@ def test_ion_pore_as_bondgraphs_jl_writes_it_reaches_the_nernst_potential(ion, z
     res = bg.simulate(model, {}, (0.0, 1000.0), [0.0], t_eval=[1000.0], method="LSODA",
                       rtol=1e-10, atol=1e-14)
     assert res["V"][-1] == pytest.approx(V_star, rel=1e-3)
+
+
+@pytest.mark.parametrize("x0, published", [
+    ((1.0, 2.0, 3.0), (1.23606, 2.23606, 2.76393)),
+    ((-1.0, 2.0, 3.0), (0.44949, 3.44949, 1.55051))], ids=["positive", "negative-A"])
+def test_a_plus_b_from_a_negative_amount_bondgraphs_jl(x0, published):
+    """BondGraphs.jl "Simple Biochemical Simulation", both of its runs (the second starts A at
+    -1 to check that no log(q) is left in the equations).  By hand: A - B and A + C are
+    conserved and at t = 3 the run has reached C = A B, so A solves
+    A^2 + (1 + B0 - A0) A - (A0 + C0) = 0 (sqrt(5) - 1 and sqrt(6) - 2)."""
+    net = ReactionNetwork("ABC")
+    A, B, C = (net.species(n, K=1) for n in "ABC")
+    net.reaction("r1", A + B, C, r=1)
+    model = bg.derive(net.graph())
+    a0, b0, c0 = x0
+    res = bg.simulate(model, {}, (0.0, 3.0), dict(zip(model.state_names, x0)), t_eval=[3.0],
+                      method="LSODA", rtol=1e-10, atol=1e-12)
+    got = [res[n][-1] for n in model.state_names]
+    a = (-(1 + b0 - a0) + math.sqrt((1 + b0 - a0) ** 2 + 4 * (a0 + c0))) / 2
+    hand = (a, a + b0 - a0, a0 + c0 - a)
+    assert got == pytest.approx(list(published), abs=1e-5)
+    assert got == pytest.approx(list(hand), abs=1e-5)
