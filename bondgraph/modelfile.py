@@ -74,14 +74,27 @@ class ModelDefinition:
     parameters : mapping of str to float, optional
         Default numeric values keyed by parameter (symbol) name, such as
         ``"Ra"`` or ``"motor.Ra"``.  They need not cover every parameter.
+        A value may carry units (a :mod:`sympy.physics.units` expression
+        such as ``3 * u.newton / u.millimeter``): it is kept in SI
+        (``3000.0``), the graph's dimensional check
+        (:func:`bondgraph.library.units.check_units`) runs at once, and the
+        model declares units (:attr:`units`).
     description : str, optional
         One line shown by the command line tool.
+    domains : mapping, optional
+        Domain seeds of the dimensional check (element name or bond number
+        -> domain name, such as ``{"F": "translation"}``), for bonds whose
+        domain no element or library component fixes.  Giving them also
+        declares units.
 
     Raises
     ------
     ModelFileError
         If a field has the wrong type or a default value is not a finite real
         number.
+    bondgraph.library.units.UnitError
+        If the model declares units and a parameter's unit does not fit its
+        element (naming the element, the parameter and both units).
 
     Examples
     --------
@@ -99,6 +112,7 @@ class ModelDefinition:
     outputs: Mapping[str, sympy.Expr] = field(default_factory=dict)
     parameters: Mapping[str, float] = field(default_factory=dict)
     description: str = ""
+    domains: Mapping[Union[str, int], str] = field(default_factory=dict)
     _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -116,15 +130,30 @@ class ModelDefinition:
         if not isinstance(self.description, str):
             raise ModelFileError(
                 f"ModelDefinition.description must be a str; got {type(self.description).__name__}")
-        values = {}
+        if not isinstance(self.domains, Mapping):
+            raise ModelFileError(
+                f"ModelDefinition.domains must be a mapping of element name or bond number to "
+                f"domain name; got {type(self.domains).__name__}")
+        values, given = {}, {}
         for key, value in self.parameters.items():
             if not isinstance(key, str):
                 raise ModelFileError(
                     f"ModelDefinition.parameters: key {key!r} must be a parameter name (str)")
-            values[key] = _finite(value, key)
+            if isinstance(value, sympy.Basic) and _carries_units(value):
+                values[key] = _finite(_si(value), key)
+            else:
+                values[key] = _finite(value, key)
+            given[key] = value
         object.__setattr__(self, "graph", self.graph.copy())
         object.__setattr__(self, "outputs", MappingProxyType(dict(self.outputs)))
         object.__setattr__(self, "parameters", MappingProxyType(values))
+        object.__setattr__(self, "domains", MappingProxyType(dict(self.domains)))
+        if self.domains or any(isinstance(v, sympy.Basic) and _carries_units(v)
+                               for v in given.values()):
+            from .library.units.check import check_units
+
+            check_units(self.graph, given, domains=self.domains)     # a wrong unit fails here
+            self._cache["given"] = given
 
     @property
     def name(self) -> str:
@@ -148,12 +177,68 @@ class ModelDefinition:
             self._cache["model"] = replace(model, declared_parameters=tuple(self.parameters))
         return self._cache["model"]
 
+    @property
+    def declares_units(self) -> bool:
+        """True when a parameter carries units or :attr:`domains` are given."""
+        return "given" in self._cache
+
+    @property
+    def unit_dimensions(self) -> Mapping[str, tuple]:
+        """Signal or parameter name -> its dimension (SI base exponents), where known.
+
+        The dimensions :func:`bondgraph.library.units.model_units` gives for the
+        derived model's states, inputs, outputs and unit-carrying parameters;
+        empty when the model declares no units.  Computed once.
+        """
+        if "dims" not in self._cache:
+            dims: dict[str, tuple] = {}
+            if self.declares_units:
+                from .library.units.signals import model_units
+
+                dims = model_units(self.derive(), self.graph, self._cache["given"],
+                                   domains=self.domains)
+            self._cache["dims"] = MappingProxyType(dims)
+        return self._cache["dims"]
+
+    @property
+    def units(self) -> Mapping[str, str]:
+        """Signal or parameter name -> its unit as text (SI, named where one matches).
+
+        Empty when no parameter carries units and no :attr:`domains` are
+        given; otherwise the units of every state, input and output the
+        dimensional check can tell, and of each unit-carrying parameter.
+
+        Examples
+        --------
+        >>> import bondgraph as bg, sympy.physics.units as u
+        >>> g = bg.BondGraph("msd")
+        >>> g.add(bg.Se("F"), bg.One("v"), bg.I("m"), bg.C("k", stiffness="k"))
+        >>> for t, h in [("F", "v"), ("v", "m"), ("v", "k")]: _ = g.connect(t, h)
+        >>> d = ModelDefinition(g, {"x": bg.displacement("m")},
+        ...                     {"m": 2 * u.kilogram, "k": 3 * u.newton / u.millimeter},
+        ...                     domains={"F": "translation"})
+        >>> d.parameters["k"], d.units["k"], d.units["x"], d.units["F"]
+        (3000.0, 'newton/meter', 'meter', 'newton')
+        >>> d.plant().units["p_m"]
+        'kilogram*meter/second'
+        >>> ModelDefinition(g, parameters={"m": 2.0}).units
+        mappingproxy({})
+        """
+        if "texts" not in self._cache:
+            from .library.units.signals import unit_text
+
+            self._cache["texts"] = MappingProxyType(
+                {k: unit_text(d) for k, d in self.unit_dimensions.items()})
+        return self._cache["texts"]
+
     def plant(self, values: Mapping[str, float] | None = None):
         """Numeric plant at the default parameter values, overridden by ``values``.
 
         Defaults for parameters the derived model does not use are ignored
         (a model file may serve several variants); unknown names in
-        ``values`` are an error.
+        ``values`` are an error.  ``values`` are numbers in SI units.  When
+        the model declares units, the plant carries those of its states,
+        inputs and outputs (:attr:`~bondgraph.numeric.NumericStateSpace.units`).
 
         Examples
         --------
@@ -173,10 +258,15 @@ class ModelDefinition:
         used = {p.name for p in model.parameters}
         merged = {k: v for k, v in self.parameters.items() if k in used}
         merged.update(values or {})
-        return self._cache["compiled"].plant(merged)
+        plant = self._cache["compiled"].plant(merged)
+        if self.units:
+            signals = {*plant.state_names, *plant.input_names, *plant.output_names}
+            plant = plant.with_units({k: v for k, v in self.units.items() if k in signals})
+        return plant
 
     def to_control(self, values: Mapping[str, float] | None = None):
-        """python-control ``StateSpace`` with labels (see :meth:`plant`)."""
+        """python-control ``StateSpace`` with labels, and ``units`` when the model declares
+        them (see :meth:`plant` and :meth:`bondgraph.numeric.NumericStateSpace.to_control`)."""
         return self.plant(values).to_control()
 
 
@@ -193,6 +283,19 @@ def _finite(value: Any, name: str) -> float:
     if not math.isfinite(out):
         raise ModelFileError(f"default value of parameter {name!r} must be finite; got {value!r}")
     return out
+
+
+def _carries_units(value: sympy.Basic) -> bool:
+    from sympy.physics.units import Quantity
+
+    return bool(value.atoms(Quantity))
+
+
+def _si(value: sympy.Basic) -> Any:
+    """A unit-carrying value in SI (the dimensional check then tells whether it fits)."""
+    from .library.units.check import si_values
+
+    return si_values({"_": value})["_"]
 
 
 def _short(value: Any) -> str:

@@ -49,14 +49,19 @@ def cmd_equations(args) -> None:
     """``bondgraph equations``: states, inputs, outputs, parameters and equations."""
     defn, model = _common._load(args.model)
     out = [f"model {model.name!r}" + (f": {defn.description}" if defn.description else "")]
+    units = defn.units
+
+    def unit(name: str) -> str:
+        return f" [{units[name]}]" if name in units else ""
+
     for title, names in (("states", model.state_names), ("inputs", model.input_names),
                          ("outputs", model.output_names),
                          ("algebraic unknowns", model.algebraic_names)):
         if title == "algebraic unknowns" and not names:
             continue
-        out.append(f"{title} ({len(names)}): {', '.join(names) or '-'}")
-    params = [f"{p.name} = {defn.parameters[p.name]:g}" if p.name in defn.parameters else p.name
-              for p in model.parameters]
+        out.append(f"{title} ({len(names)}): {', '.join(n + unit(n) for n in names) or '-'}")
+    params = [f"{p.name} = {defn.parameters[p.name]:g}{unit(p.name)}" if p.name in defn.parameters
+              else p.name for p in model.parameters]
     out.append(f"parameters ({len(params)}): {', '.join(params) or '-'}")
     out.append("")
     if args.latex:
@@ -125,15 +130,32 @@ def cmd_tf(args) -> None:
             print()
             print(N.table().to_latex())
         return
-    _print_tf(G, values)
+    _print_tf(G, values, _units_line(defn, inp, outp), defn.units.get(outp), defn.units.get(inp))
+
+
+def _units_line(defn, inp: str, outp: str) -> str:
+    """``units: input F [newton], output v [meter/second], v/F [(meter/second)/newton]``, or ''."""
+    units = defn.units
+    if inp not in units and outp not in units:
+        return ""
+    parts = [f"{what} {n} [{units[n]}]" for what, n in (("input", inp), ("output", outp))
+             if n in units]
+    if inp in units and outp in units:
+        from ..library.units.signals import ratio_text
+
+        dims = defn.unit_dimensions
+        parts.append(f"{outp}/{inp} [{ratio_text(dims[outp], dims[inp])}]")
+    return "units: " + ", ".join(parts)
 
 
 #: width of the command line's text output (characters)
 WIDTH = 100
 
 
-def _print_tf(G, values) -> None:
-    """``tf`` as text: the function (when it fits the width), its coefficient table, poles and zeros."""
+def _print_tf(G, values, units: str = "", output_unit=None, input_unit=None) -> None:
+    """``tf`` as text: the function (when it fits the width), the units of its input, output
+    and gain (when the model declares them), its coefficient table (with each coefficient's
+    unit when both units are known), poles and zeros."""
     from ..tf.coefficients import coefficient_table
 
     whole = str(G)
@@ -142,6 +164,8 @@ def _print_tf(G, values) -> None:
     else:
         print(f"{G.output_name}/{G.input_name} = (a_n s^n + ... + a_0)/(b_m s^m + ... + b_0), "
               "coefficients below")
+    if units:
+        print(units)
     if values is not None:
         N = G.subs(values)
         text = str(N)
@@ -149,7 +173,8 @@ def _print_tf(G, values) -> None:
             print()
             print(text)
     print()
-    print(coefficient_table(G, values).format(WIDTH))
+    grouped = [u if u is None or u.isidentifier() else f"({u})" for u in (output_unit, input_unit)]
+    print(coefficient_table(G, values, output_unit=grouped[0], input_unit=grouped[1]).format(WIDTH))
     if values is None:
         return
     table = N.table()
@@ -215,14 +240,26 @@ def cmd_export(args) -> None:
                 plant = compile_plant(model).plant(full)
             except NonlinearModelError as exc:
                 raise _needs_point(exc) from None
+        if defn.units:         # the model declares units: the file carries its signals'
+            signals = {*plant.state_names, *plant.input_names, *plant.output_names}
+            plant = plant.with_units({k: v for k, v in defn.units.items() if k in signals})
         export(plant, out, format=fmt)
         print(f"wrote {out}")
         return
     if fmt == "fmu":
-        from ..fmu import export_fmu
-
         full = _values(defn, model, args.params, given, complete=True)
-        export_fmu(defn, out, fmi=args.fmi or 2, kind=args.kind or "both", values=full)
+        if defn.units:         # modelDescription.xml with unit attributes and UnitDefinitions
+            from .._support.files import atomic_write
+            from ..fmu import build_fmu
+            from ..library.units import fmu_with_units
+
+            data = fmu_with_units(build_fmu(defn, values=full, fmi=args.fmi or 2,
+                                            kind=args.kind or "both"), defn.unit_dimensions)
+            atomic_write(out, lambda fh: fh.write(data), binary=True)
+        else:
+            from ..fmu import export_fmu
+
+            export_fmu(defn, out, fmi=args.fmi or 2, kind=args.kind or "both", values=full)
         print(f"wrote {out}")
         return
     values = _values(defn, model, args.params, given, complete=False)

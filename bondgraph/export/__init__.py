@@ -174,7 +174,8 @@ def export_mat(plant: NumericStateSpace, path: PathLike, *,
     units : mapping of str to str, optional
         Signal name -> unit text (:func:`bondgraph.library.units.model_units`); adds the
         cell arrays ``state_units``, ``input_units`` and ``output_units``
-        (``''`` where a name has none).
+        (``''`` where a name has none).  Default: the plant's own
+        :attr:`~bondgraph.numeric.NumericStateSpace.units`, when it has any.
 
     Raises
     ------
@@ -198,6 +199,8 @@ def export_mat(plant: NumericStateSpace, path: PathLike, *,
     import scipy.io
 
     data = _mat_dict(_check_plant(plant))
+    if units is None and plant.units:
+        units = plant.units
     if units is not None:
         for key, names in (("state_units", plant.state_names), ("input_units", plant.input_names),
                            ("output_units", plant.output_names)):
@@ -356,7 +359,8 @@ def export_json(plant: NumericStateSpace, path: PathLike, *,
         The file to write (replaced whole if it exists).
     units : mapping of str to str, optional
         Signal name -> unit text, written as the optional key ``"units"``
-        (for the plant's states, inputs and outputs).
+        (for the plant's states, inputs and outputs).  Default: the plant's
+        own :attr:`~bondgraph.numeric.NumericStateSpace.units`, when it has any.
 
     Raises
     ------
@@ -380,6 +384,8 @@ def export_json(plant: NumericStateSpace, path: PathLike, *,
     """
     _check_exportable(plant)
     doc = to_json_dict(plant)
+    if units is None and plant.units:
+        units = plant.units
     if units is not None:
         doc["units"] = {n: str(units[n]) for n in (*doc["states"], *doc["inputs"], *doc["outputs"])
                         if n in units}
@@ -499,8 +505,10 @@ def _plant_from_document(doc: Any, where: str) -> NumericStateSpace:
             raise fail(f"parameter {key!r} {problem}")
         params[key] = float(value)
     try:
+        signals = {*names["states"], *names["inputs"], *names["outputs"]}
         return NumericStateSpace(mats["A"], mats["B"], mats["C"], mats["D"], names["states"],
-                                 names["inputs"], names["outputs"], params, model)
+                                 names["inputs"], names["outputs"], params, model,
+                                 units={k: v for k, v in units_doc.items() if k in signals})
     except (BondGraphError, TypeError, ValueError) as exc:    # pragma: no cover - checked above
         raise fail(f"malformed {FORMAT_NAME} document: {exc}") from exc
 

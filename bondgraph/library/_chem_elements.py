@@ -32,6 +32,7 @@ R_gas*T*log(q*K_A)
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass, field
 from typing import ClassVar, Optional, cast
 
@@ -54,6 +55,31 @@ FARADAY = 96485.33212
 R_GAS = sympy.Symbol("R_gas", positive=True)
 #: the default symbol of the temperature in chemical laws
 TEMPERATURE = sympy.Symbol("T", positive=True)
+
+
+def _whole_log_powers(expr: sympy.Expr) -> sympy.Expr:
+    """``expr`` with each ``c*log(...)`` term whose float ``c`` is a whole number within
+    rounding given the integer ``c``.
+
+    ``A/RT`` of species ``mu = RT ln(K q)`` with a numeric ``RT`` leaves
+    ``1.0*log(q)`` (``RT/RT`` in floats), and ``exp`` of it ``q**1.0``; the
+    quotient is exactly the stoichiometric coefficient, so it is given as one.
+
+    Examples
+    --------
+    >>> q = sympy.Symbol("q", positive=True)
+    >>> rt = sympy.Float(8.314) * 310
+    >>> sympy.exp(_whole_log_powers(sympy.expand(sympy.expand_log(2 * rt * sympy.log(q) / rt))))
+    q**2
+    """
+    def whole(term: sympy.Expr) -> sympy.Expr:
+        c, rest = term.as_coeff_Mul()
+        if isinstance(c, sympy.Float) and rest.has(sympy.log):
+            n = round(float(c))
+            if n != 0 and abs(float(c) - n) <= 8 * sys.float_info.epsilon * abs(n):
+                return sympy.Integer(n) * rest
+        return term
+    return sympy.Add(*[whole(t) for t in sympy.Add.make_args(expr)])
 
 
 def _rt(el) -> sympy.Expr:
@@ -221,7 +247,8 @@ class Re(ConductanceTwoPort):
         2*exp(A/(R_gas*T)) - 2
         """
         rt = self.RT()
-        term = lambda a: sympy.exp(sympy.expand(sympy.expand_log(a / rt, force=False)))
+        term = lambda a: sympy.exp(_whole_log_powers(sympy.expand(sympy.expand_log(a / rt,
+                                                                                force=False))))
         kf, kr = self._constants()
         if kf == kr:
             return kf * (term(forward) - term(reverse))

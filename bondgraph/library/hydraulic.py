@@ -33,7 +33,7 @@ from ..signals import displacement, e as E_VAR, f as F_VAR, q as Q_VAR
 from .._support.sympify import ParameterLike
 from ._component import Component
 
-__all__ = ["Orifice", "Pipe", "Accumulator", "GravityTank", "Cylinder", "ProportionalValve",
+__all__ = ["Orifice", "Pipe", "LaminarRestriction", "Accumulator", "GravityTank", "Cylinder", "ProportionalValve",
            "PressureSource", "FlowSource", "Tank", "orifice_flow", "orifice_drop"]
 
 _MER = "Merritt, Hydraulic Control Systems, 1967"
@@ -148,6 +148,34 @@ class Pipe(_Restriction):
                          zip(self._given, ("length", "diameter", "viscosity", "rho")))
         self._series(R("R", 128 * mu * L / (sympy.pi * d**4)),
                      I("I", rho * L / (sympy.pi * d**2 / 4)))
+
+
+class LaminarRestriction(_Restriction):
+    """A linear (laminar) restriction: ``p_a - p_b = R Q``.
+
+    A capillary, a porous plug, or an outlet linearized about its operating
+    point (the liquid-level resistance ``R = dH/dQ`` of Ogata, *Modern
+    Control Engineering*, 5th ed., Sec. 4-2, here in pressure units,
+    ``R = rho g dH/dQ``; MTT's linear outlet ``R lin``).  A linear ``R`` of
+    resistance ``resistance`` (Pa s/m^3) on a 1-junction between ``a`` and ``b``.
+
+    Examples
+    --------
+    >>> r = LaminarRestriction("out", resistance=4e8)
+    >>> r["R"].parameter, r.ports
+    (400000000.000000, ('a', 'b'))
+    """
+
+    law = "p_a - p_b = R Q"
+    reference = "Ogata, Modern Control Engineering, 5th ed., Sec. 4-2 (liquid-level resistance)"
+    symbol = "R"
+
+    def __init__(self, name: str, *, resistance: ParameterLike = None) -> None:
+        self._resistance = resistance
+        super().__init__(name)
+
+    def build(self) -> None:
+        self._series(R("R", self.param(self._resistance, "R")))
 
 
 class Accumulator(Component):

@@ -102,11 +102,20 @@ class NumericStateSpace(SignalCounts):
         ``x - S_0 u - S_1 u' - ...`` where ``x`` are the model's states named
         in ``state_names`` (see :mod:`bondgraph.numeric.plant`).  Empty when
         the states are the model's own.
+    units : mapping of str to str, optional
+        Signal name (a state, input or output) -> its unit, as text
+        (``'newton'``, ``'meter/second'``); given by a model that declares
+        units (:class:`bondgraph.modelfile.ModelDefinition` with
+        unit-carrying parameters, :func:`bondgraph.library.units.model_units`).
+        Empty (the default) when the model declares none.  Kept by
+        :meth:`to_control` (as its ``units`` attribute) and written by the
+        ``.mat`` and JSON exports.
 
     Raises
     ------
     NumericError
-        If a matrix shape does not match the numbers of names.
+        If a matrix shape does not match the numbers of names, or a unit
+        names no signal of the plant or is not a text.
 
     Examples
     --------
@@ -133,6 +142,7 @@ class NumericStateSpace(SignalCounts):
     name: str = ""
     D_derivatives: tuple[Any, ...] = ()
     state_shift: tuple[Any, ...] = ()
+    units: Mapping[str, str] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         names = tuple(tuple(str(s) for s in getattr(self, f)) for f in
@@ -166,6 +176,7 @@ class NumericStateSpace(SignalCounts):
         object.__setattr__(self, "parameters",
                            MappingProxyType({str(k): real_value(v, str(k))
                                              for k, v in dict(self.parameters).items()}))
+        object.__setattr__(self, "units", MappingProxyType(_checked_units(self.units, names)))
 
     def __repr__(self) -> str:
         kind = f", sparse, {self.A.nnz} nonzeros in A" if self.is_sparse else ""
@@ -177,7 +188,8 @@ class NumericStateSpace(SignalCounts):
         # the parameter values as a read-only mapping again
         return (NumericStateSpace, (self.A, self.B, self.C, self.D, self.state_names,
                                     self.input_names, self.output_names, dict(self.parameters),
-                                    self.name, self.D_derivatives, self.state_shift))
+                                    self.name, self.D_derivatives, self.state_shift,
+                                    dict(self.units)))
 
     @property
     def is_sparse(self) -> bool:
@@ -210,7 +222,7 @@ class NumericStateSpace(SignalCounts):
                                  self.state_names, self.input_names, self.output_names,
                                  dict(self.parameters), self.name,
                                  tuple(conv(M) for M in self.D_derivatives),
-                                 tuple(conv(M) for M in self.state_shift))
+                                 tuple(conv(M) for M in self.state_shift), dict(self.units))
 
     def eigenvalues(self, k: Optional[int] = None, *, sigma: complex = 0.0,
                     dense: str = "warn") -> np.ndarray:
@@ -302,7 +314,11 @@ class NumericStateSpace(SignalCounts):
         """A python-control ``StateSpace`` with state, input and output labels.
 
         python-control forbids ``'.'`` in signal names: hierarchical names are
-        given with ``'_'`` (see :func:`control_labels`).
+        given with ``'_'`` (see :func:`control_labels`).  python-control
+        systems have no units of their own: the plant's :attr:`units` are
+        set as the system's ``units`` attribute (a dict keyed by those
+        labels), which python-control's own operations (``feedback``,
+        ``series``, indexing) do not carry over.
 
         Parameters
         ----------
@@ -318,16 +334,40 @@ class NumericStateSpace(SignalCounts):
         >>> sys = ss.to_control()
         >>> sys.input_labels, float(sys.dcgain())
         (['motor_V'], 2.0)
+        >>> ss.with_units({"motor.V": "volt", "y": "meter"}).to_control().units
+        {'motor_V': 'volt', 'y': 'meter'}
         """
         import control
 
         self._require_proper("a python-control StateSpace")
         A, B, C, D = self._arrays(dense, "a python-control StateSpace")
-        return control.ss(A, B, C, D,
-                          states=control_labels(self.state_names),
-                          inputs=control_labels(self.input_names),
-                          outputs=control_labels(self.output_names),
-                          name=self.name or None)
+        sys = control.ss(A, B, C, D,
+                         states=control_labels(self.state_names),
+                         inputs=control_labels(self.input_names),
+                         outputs=control_labels(self.output_names),
+                         name=self.name or None)
+        names = (*self.state_names, *self.input_names, *self.output_names)
+        labels = (*sys.state_labels, *sys.input_labels, *sys.output_labels)
+        sys.units = {label: self.units[n] for n, label in zip(names, labels) if n in self.units}
+        return sys
+
+    def with_units(self, units: Mapping[str, str]) -> "NumericStateSpace":
+        """This plant with the units of some of its signals (others keep theirs).
+
+        Examples
+        --------
+        >>> ss = NumericStateSpace([[-1.0]], [[1.0]], [[1.0]], [[0.0]], ("q",), ("V",), ("vC",))
+        >>> dict(ss.with_units({"q": "coulomb", "V": "volt"}).units)
+        {'q': 'coulomb', 'V': 'volt'}
+        >>> ss.with_units({"w": "radian/second"})
+        Traceback (most recent call last):
+        ...
+        bondgraph.numeric.errors.NumericError: unit given for 'w', which is no state, input or output of the plant (states q; inputs V; outputs vC)
+        """
+        return NumericStateSpace(self.A, self.B, self.C, self.D, self.state_names,
+                                 self.input_names, self.output_names, dict(self.parameters),
+                                 self.name, self.D_derivatives, self.state_shift,
+                                 {**self.units, **dict(units)})
 
     def to_tf(self, *, input: Optional[str] = None, output: Optional[str] = None,
               dense: str = "warn") -> control.TransferFunction:
@@ -386,9 +426,10 @@ class NumericStateSpace(SignalCounts):
         red = control.minreal(control.ss(*self._arrays(dense, "a minimal realization")), tol=tol,
                               verbose=False)
         n = red.nstates
+        kept = {k: v for k, v in self.units.items() if k not in self.state_names}
         return NumericStateSpace(red.A, red.B, red.C, red.D,
                                  tuple(f"xm_{i + 1}" for i in range(n)), self.input_names,
-                                 self.output_names, self.parameters, self.name)
+                                 self.output_names, self.parameters, self.name, units=kept)
 
     def to_scipy(self, *, dense: str = "warn") -> scipy.signal.StateSpace:
         """The ``scipy.signal.StateSpace`` system (continuous time, no names); ``dense`` as
@@ -403,6 +444,25 @@ class NumericStateSpace(SignalCounts):
         if name in names:
             return names.index(name)
         raise NumericError(f"no {what} named {name!r}; {what}s are {', '.join(names) or '(none)'}")
+
+
+def _checked_units(units: Any, names: tuple[tuple[str, ...], ...]) -> dict[str, str]:
+    """``units`` as a dict of signal name -> unit text, every key a signal of the plant."""
+    if not isinstance(units, Mapping):
+        raise NumericError(f"units must be a mapping of signal name to unit text; got "
+                           f"{type(units).__name__}")
+    signals = {n for group in names for n in group}
+    out = {}
+    for key, value in units.items():
+        if key not in signals:
+            states, inputs, outputs = (", ".join(g) or "(none)" for g in names)
+            raise NumericError(f"unit given for {key!r}, which is no state, input or output of the "
+                               f"plant (states {states}; inputs {inputs}; outputs {outputs})")
+        if not isinstance(value, str):
+            raise NumericError(f"the unit of {key!r} must be a text such as 'newton'; got "
+                               f"{type(value).__name__}")
+        out[key] = value
+    return out
 
 
 def add_derivatives(H: np.ndarray, Dd: Sequence[np.ndarray], omega) -> np.ndarray:

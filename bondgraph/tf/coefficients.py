@@ -131,7 +131,10 @@ def _time_unit(k: int, time: str) -> str:
 
 
 def _ratio_unit(top: str, bottom: str, k: int, time: str) -> str:
-    """``top/bottom`` times ``time^-k``: ``m/V``, ``m/(V s)``, ``m/(V s^2)``."""
+    """``top/bottom`` times ``time^-k``: ``m/V``, ``m/(V s)``, ``m/(V s^2)``; ``1/s`` when
+    ``top`` and ``bottom`` are the same unit."""
+    if top == bottom:
+        return _time_unit(k, time)
     if k == 0:
         return f"{top}/{bottom}"
     t = time if k == 1 else f"{time}^{k}"

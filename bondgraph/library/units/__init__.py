@@ -20,6 +20,12 @@ unit-free, so models without units work unchanged.
   whose dimension is wrong, naming the element, the parameter and both units.
   Relations touching a bond of unknown domain or a parameter given without
   units are not checked (they are counted in the report).
+* :func:`model_units` gives the units of a derived model's states, inputs and
+  outputs, :func:`plant_with_units` a numeric plant carrying them (kept by
+  ``to_control()`` and the ``.mat``/JSON exports), :func:`fmu_with_units` an
+  FMU whose modelDescription has them; a
+  :class:`~bondgraph.modelfile.ModelDefinition` with unit-carrying parameters
+  hands them to its plants and to the command line's tables and exports.
 
 Examples
 --------
@@ -41,9 +47,11 @@ bondgraph.library.units.check.UnitError: R:b, parameter b: its value has the uni
 
 from .check import (DOMAINS, Domain, UnitError, UnitReport, bond_domains, check_units, si_values,
                     signal_units)
-from ._fmu import export_fmu_with_units, fmu_with_units, model_units
+from ._fmu import export_fmu_with_units, fmu_with_units
+from .signals import model_units, plant_with_units, ratio_text, unit_dims, unit_text
 from ._export import export_json_with_units, export_mat_with_units
 
 __all__ = ["Domain", "DOMAINS", "UnitError", "UnitReport", "bond_domains", "check_units",
-           "si_values", "signal_units", "model_units", "fmu_with_units", "export_fmu_with_units",
+           "si_values", "signal_units", "model_units", "plant_with_units", "unit_text",
+           "ratio_text", "unit_dims", "fmu_with_units", "export_fmu_with_units",
            "export_mat_with_units", "export_json_with_units"]

@@ -28,7 +28,7 @@ from sympy.physics.units.prefixes import Prefix
 from sympy.physics.units.systems.si import SI, dimsys_SI
 
 __all__ = ["Dim", "ZERO", "unit_dims", "text", "Mismatch", "Unknown", "dims_of", "si_value",
-           "BASE_UNITS"]
+           "BASE_UNITS", "NAMED"]
 
 #: the SI base dimensions, in order, and a probe slot (last) used to find exponents
 _BASE = ("mass", "length", "time", "current", "temperature", "amount_of_substance",
@@ -39,7 +39,7 @@ Dim = tuple   # of sympy Rationals, len(_BASE) + 1
 ZERO: Dim = (sympy.Integer(0),) * (len(_BASE) + 1)
 
 #: named units tried when printing a dimension (first match wins)
-_NAMED = [("volt", u.volt), ("ampere", u.ampere), ("ohm", u.ohm), ("henry", u.henry),
+NAMED = [("volt", u.volt), ("ampere", u.ampere), ("ohm", u.ohm), ("henry", u.henry),
           ("farad", u.farad), ("coulomb", u.coulomb), ("newton", u.newton), ("pascal", u.pascal),
           ("watt", u.watt), ("joule", u.joule), ("kelvin", u.kelvin), ("watt/kelvin", u.watt / u.kelvin),
           ("joule/kelvin", u.joule / u.kelvin), ("joule/mole", u.joule / u.mole),
@@ -73,7 +73,7 @@ def text(d: Dim) -> str:
     """A dimension as a named unit when one matches, else as SI base units."""
     if all(x == 0 for x in d[:-1]):
         return "1 (dimensionless)"
-    for name, unit in _NAMED:
+    for name, unit in NAMED:
         if unit_dims(unit) == d:
             return name
     return str(sympy.Mul(*[b**p for b, p in zip(BASE_UNITS, d)]))

@@ -1,7 +1,8 @@
-"""Units of a model's signals, and FMUs whose modelDescription carries them.
+"""FMUs whose modelDescription carries the units of their variables.
 
-:func:`model_units` gives the dimension of every state, input, output and
-unit-carrying parameter of a derived model; :func:`fmu_with_units` adds the
+:func:`model_units` (:mod:`bondgraph.library.units.signals`) gives the
+dimension of every state, input, output and unit-carrying parameter of a
+derived model; :func:`fmu_with_units` adds the
 ``unit`` attribute of each such variable (and of each state derivative) to
 an FMU's ``modelDescription.xml``, with the ``UnitDefinitions`` (SI base-unit
 exponents) FMI 2.0 and 3.0 define; :func:`export_fmu_with_units` does both
@@ -31,47 +32,13 @@ import sympy
 
 from ...graph import BondGraph
 from ...model import Model
-from ...signals import t as T_SYM
-import sympy.physics.units as u
 
-from ._dims import Dim, Mismatch, Unknown, dims_of, si_value, text, unit_dims
+from ._dims import Dim, text
+from .signals import model_units
 
 __all__ = ["model_units", "fmu_with_units", "export_fmu_with_units"]
 
 _BASE_ATTR = ("kg", "m", "s", "A", "K", "mol", "cd")
-
-
-def model_units(model: Model, graph: BondGraph, values: Mapping[str, Any], *,
-                domains: Optional[Mapping] = None) -> dict[str, Dim]:
-    """Dimensions of the model's states, inputs and outputs, and of unit-carrying parameters.
-
-    Runs :func:`bondgraph.library.units.check_units` on ``graph`` (so a wrong unit is
-    refused here too); an output whose dimension cannot be known (a
-    parameter without units in it) is left out.
-    """
-    from .check import check_units
-
-    report = check_units(graph, values, domains=domains)
-    out: dict[str, Dim] = {}
-    known: dict = {T_SYM: unit_dims(u.second)}
-    for sym in (*model.states, *model.inputs):
-        if sym.name in report.dims:
-            out[sym.name] = known[sym] = report.dims[sym.name]
-    for name, v in values.items():
-        if isinstance(v, sympy.Basic) and v.atoms(u.Quantity):
-            d = si_value(v)[1]
-            for p in model.parameters:
-                if p.name == name:
-                    known[p] = d
-    for name, ex in zip(model.output_names, model.output_exprs):
-        try:
-            out[name] = dims_of(ex, known)
-        except (Unknown, Mismatch):
-            continue
-    for p in model.parameters:
-        if p in known:
-            out[p.name] = known[p]
-    return out
 
 
 def _unit_definition(parent: ET.Element, name: str, d: Dim) -> bool:
