@@ -422,7 +422,7 @@ class _Deriver:
 
     def _ddt(self, expr: sympy.Expr, el: Element) -> sympy.Expr:
         """Total time derivative through states, inputs and t."""
-        terms = []
+        terms, unknown = [], set(self.broken.values()) | self.implicit.law_symbols()
         for s in expr.free_symbols:
             if s in self.xdot:
                 terms.append(sympy.diff(expr, s) * self.xdot[s])
@@ -430,7 +430,7 @@ class _Deriver:
                 terms.append(sympy.diff(expr, s) * self.udot[s])
             elif s == T_SYM:
                 terms.append(sympy.diff(expr, s))
-            elif s in self.broken.values() or s in self.implicit.law_symbols():
+            elif s in unknown:
                 raise AlgebraicLoopError(
                     f"{el.label()} is in derivative causality through an algebraic loop; "
                     "this combination is not supported"

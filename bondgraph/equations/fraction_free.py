@@ -52,8 +52,8 @@ def _ring_rows(M: sympy.Matrix, R: sympy.Matrix, budget: int):
     rows: list = []
     size = 0
     for i in range(M.rows):
-        ents = [field.from_sympy(M[i, j]) for j in range(M.cols)]
-        ents += [field.from_sympy(R[i, j]) for j in range(R.cols)]
+        ents = [_element(field, M[i, j]) for j in range(M.cols)]
+        ents += [_element(field, R[i, j]) for j in range(R.cols)]
         den = ring.one
         for e in ents:
             den = ring.lcm(den, field.denom(e))
@@ -62,6 +62,11 @@ def _ring_rows(M: sympy.Matrix, R: sympy.Matrix, budget: int):
         if size > budget:
             return ring, field, None
     return ring, field, rows
+
+
+def _element(field, expr: sympy.Expr):
+    """``expr`` in the fraction-field domain ``field`` (through :func:`to_field`)."""
+    return field.new(to_field(field.field, expr)) if expr != 0 else field.zero
 
 
 def _terms(p) -> int:
@@ -79,7 +84,9 @@ def solve_fraction_free(M: sympy.Matrix, R: sympy.Matrix, *,
     R : sympy.Matrix
         Right-hand sides, same rows as ``M``.
     budget : int
-        Largest number of polynomial terms the working matrix may hold.
+        Largest number of polynomial terms the eliminated rows may hold (the
+        rows with their denominators cleared may hold this many more than
+        the entries of ``M`` and ``R`` have terms).
 
     Returns
     -------
@@ -89,8 +96,11 @@ def solve_fraction_free(M: sympy.Matrix, R: sympy.Matrix, *,
         ``None`` when an entry cannot be brought into the field of rational
         functions (floats, functions of symbols).
     """
+    # the budget bounds the elimination's growth: a large but plain input (the sum of
+    # 5,000 reciprocal masses of rigidly joined inertias) is not refused for its own size
+    given = sum(len(sympy.Add.make_args(e)) for e in list(M) + list(R) if e != 0)
     try:
-        ring, field, rows = _ring_rows(M, R, budget)
+        ring, field, rows = _ring_rows(M, R, budget + given // M.rows)
     except (CoercionFailed, NotImplementedError, ValueError, ZeroDivisionError):
         return None
     if rows is None:
@@ -160,18 +170,38 @@ def to_field(K, expr: sympy.Expr):
     (a*b + b**2 + 1)/b
     """
     ring = K.ring
+    gens = set(ring.symbols)
+
+    def polynomial(e: sympy.Expr) -> bool:      # linear in the size of e (is_polynomial is not)
+        if e.is_Symbol:
+            return e in gens
+        if e.is_Rational:
+            return True
+        if e.is_Add or e.is_Mul:
+            return all(polynomial(a) for a in e.args)
+        if e.is_Pow:
+            return bool(e.exp.is_Integer and e.exp >= 0 and polynomial(e.base))
+        return False
     if expr.is_Add:
-        poly: list = []
+        # terms over the same denominator are added in the ring: one division per denominator
+        over: dict = {}
         rest: list = []
         for arg in expr.args:
-            (poly if arg.is_polynomial(*ring.symbols) else rest).append(arg)
-        total = K(ring.from_expr(sympy.Add(*poly))) if poly else K.zero
+            num, den = sympy.fraction(arg, exact=True)
+            if polynomial(num) and polynomial(den):
+                over.setdefault(den, []).append(num)
+            else:
+                rest.append(arg)
+        total = K.zero
+        for den, nums in over.items():
+            top = ring.from_expr(sympy.Add(*nums))
+            total += K(top) if den == 1 else K.new(top, ring.from_expr(den))
         for arg in rest:
             total += to_field(K, arg)
         return total
     if expr.is_Mul:
         num, den = sympy.fraction(expr, exact=True)
-        if den != 1 and num.is_polynomial(*ring.symbols) and den.is_polynomial(*ring.symbols):
+        if den != 1 and polynomial(num) and polynomial(den):
             return K.new(ring.from_expr(num), ring.from_expr(den))
         out = K.one
         for arg in expr.args:

@@ -13,6 +13,8 @@ from __future__ import annotations
 import functools
 from typing import Mapping, Sequence
 
+import math
+
 import numpy as np
 import sympy
 
@@ -20,7 +22,8 @@ from ...errors import LawError
 from ...signals import Signal, t as T_SYM
 from ..._support.sympify import as_matrix, to_expr
 
-__all__ = ["FieldError", "field_matrix", "partial_solve", "solve_law", "inverse"]
+__all__ = ["FIELD_TERM_BUDGET", "FieldError", "FieldSizeError", "determinant_terms", "field_matrix",
+           "partial_solve", "solve_law", "inverse"]
 
 
 class FieldError(LawError):
@@ -107,6 +110,41 @@ def check_definite(values: np.ndarray, *, owner: str, what: str, definite: bool 
                          "eigenvalues")
 
 
+#: the largest determinant (in terms, as bounded by :func:`determinant_terms`) a symbolic
+#: field matrix may have: a dense 6x6 matrix of symbols (720 terms) inverts in seconds,
+#: a dense 8x8 one (40,320) did not in minutes
+FIELD_TERM_BUDGET = 1000
+
+
+class FieldSizeError(FieldError):
+    """A symbolic field matrix too large to invert (past :data:`FIELD_TERM_BUDGET`)."""
+
+
+def determinant_terms(M: sympy.MatrixBase) -> float:
+    """An upper bound on the number of terms of ``det(M)`` expanded.
+
+    Bregman's bound on the permanent of the pattern of non-constant entries
+    (``prod (r_i!)^(1/r_i)``, exact for a dense matrix: ``n!``), times each
+    row's largest number of terms.
+
+    Examples
+    --------
+    >>> a, b, c, d = sympy.symbols("a b c d")
+    >>> determinant_terms(sympy.Matrix([[a, b], [c, d]]))
+    2.0
+    >>> determinant_terms(sympy.Matrix([[a + b, 1], [0, d]]))
+    2.0
+    """
+    bound = 1.0
+    for i in range(M.rows):
+        row = [M[i, j] for j in range(M.cols) if M[i, j].free_symbols]
+        if not row:
+            continue
+        r = len(row)
+        bound *= math.factorial(r) ** (1.0 / r) * max(len(sympy.Add.make_args(e)) for e in row)
+    return round(bound, 6)
+
+
 @functools.lru_cache(maxsize=64)
 def inverse(M: sympy.ImmutableMatrix) -> sympy.ImmutableMatrix:
     """``M^-1``: numeric LU, or for symbols elimination over their fraction field (cached:
@@ -123,6 +161,13 @@ def inverse(M: sympy.ImmutableMatrix) -> sympy.ImmutableMatrix:
         return sympy.ImmutableMatrix(M.inv())
     if M.is_diagonal():
         return sympy.ImmutableMatrix.diag(*[1 / M[i, i] for i in range(M.rows)])
+    terms = determinant_terms(M)
+    if terms > FIELD_TERM_BUDGET:
+        raise FieldSizeError(
+            f"its symbolic inverse is too large: the determinant of this {M.rows}x{M.rows} "
+            f"matrix of symbols has up to {terms:,.0f} terms (budget {FIELD_TERM_BUDGET:,}, "
+            "bondgraph.elements.fields.algebra.FIELD_TERM_BUDGET); give numbers for some "
+            "entries, or split the field into smaller ones")
     try:       # fraction-field elimination: fast, one reduced fraction per entry
         return sympy.ImmutableMatrix(M.inv(method="DM"))
     except (NotImplementedError, sympy.polys.polyerrors.PolynomialError):
@@ -159,6 +204,8 @@ def partial_solve(T: sympy.MatrixBase, w_known: Mapping[int, sympy.Expr],
         block = sympy.ImmutableMatrix(T.extract(U, U))
         try:
             wU = inverse(block) * rhs
+        except FieldSizeError as exc:
+            raise FieldSizeError(f"{owner}: the {what}: {exc}") from None
         except ValueError as exc:       # sympy's NonInvertibleMatrixError: singular for all values
             rows = ", ".join(str(i + 1) for i in U)
             raise FieldError(
