@@ -22,6 +22,7 @@ generic (almost-all-parameter-values) answer.
 """
 
 from ._generic import StructureError
+from .derivative import SS, DerivativeCausality, derivative_causality
 from .inversion import Inversion, invert
 from .placement import PositionSweep, SensorPlacement, position_sweep, sensor_placement
 from .reach import Reachability, controllability, observability
@@ -31,6 +32,7 @@ from .identifiable import (Identifiability, IdentifiabilityWarning, identifiabil
 from .zeros import ZeroStructure, collocated, zero_structure
 
 __all__ = ["StructureError", "Reachability", "controllability", "observability",
+           "SS", "DerivativeCausality", "derivative_causality",
            "ZeroStructure", "zero_structure", "collocated",
            "Identifiability", "identifiability", "tf_coefficients", "IdentifiabilityWarning",
            "Inversion", "invert",
