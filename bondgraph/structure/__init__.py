@@ -10,6 +10,9 @@ generic (almost-all-parameter-values) answer.
   ``[A; C]``, the states lost and why (:mod:`bondgraph.structure.reach`);
 * :func:`zero_structure` -- relative degree from the shortest causal path,
   number of finite zeros, the zeros; :func:`collocated` (:mod:`bondgraph.structure.zeros`);
+* :func:`infinite_zeros` -- the orders of the infinite zeros of a MIMO
+  selection from disjoint causal paths and from the Markov parameters
+  (:mod:`bondgraph.structure.mimo`);
 * :func:`identifiability` -- which parameters, and which of their products,
   a transfer function determines (:mod:`bondgraph.structure.identifiable`);
 * :func:`invert` -- the input for an output trajectory, with the relative
@@ -23,6 +26,7 @@ generic (almost-all-parameter-values) answer.
 
 from ._generic import StructureError
 from .derivative import SS, DerivativeCausality, derivative_causality
+from .mimo import InfiniteZeros, infinite_zeros
 from .inversion import Inversion, invert
 from .placement import PositionSweep, SensorPlacement, position_sweep, sensor_placement
 from .reach import Reachability, controllability, observability
@@ -33,7 +37,7 @@ from .zeros import ZeroStructure, collocated, zero_structure
 
 __all__ = ["StructureError", "Reachability", "controllability", "observability",
            "SS", "DerivativeCausality", "derivative_causality",
-           "ZeroStructure", "zero_structure", "collocated",
+           "ZeroStructure", "zero_structure", "collocated", "InfiniteZeros", "infinite_zeros",
            "Identifiability", "identifiability", "tf_coefficients", "IdentifiabilityWarning",
            "Inversion", "invert",
            "SensorPlacement", "sensor_placement", "PositionSweep", "position_sweep",
