@@ -427,7 +427,8 @@ def _restored(found: AugmentedBondGraph, flat2: FlatGraph) -> AugmentedBondGraph
 
 def _storage(bgd: AugmentedBondGraph) -> tuple[list[str], list[str]]:
     """States of the elements in integral causality, and the one-ports in derivative causality."""
-    integral, derivative = [], []
+    integral: list[str] = []
+    derivative: list[str] = []
     for el in bgd.flat.elements:
         ein = _effort_in(bgd, el.name)
         integral += el.state_names(ein)
