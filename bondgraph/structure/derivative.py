@@ -3,10 +3,14 @@
 Sueur and Dauphin-Tanguy (1991) read the structural ranks off the bond graph
 itself, without forming a matrix:
 
-* ``rank [A B] = n - t`` where ``t`` is the number of storage elements that
-  remain in integral causality when derivative causality is preferred for
-  every storage element and the input sources are *dualised* (their causality
-  left free, so a source may take the causality a conflict needs);
+* ``rank [A B] = n - t`` where ``n`` is the number of states and ``t`` the
+  number of storage elements that remain in integral causality when
+  derivative causality is preferred for every storage element and the input
+  sources are *dualised* (their causality left free, so a source may take the
+  causality a conflict needs).  An element already in derivative causality in
+  the model (no state of its own) that must turn integral here counts in
+  ``t`` too: two capacitors in series across a voltage source give
+  ``rank [A B] = 0``, the charge moving only with the source's derivative;
 * ``rank [A; C] = n - t`` with the *detectors* dualised instead: each output
   becomes a source-sensor on the bond whose effort (flow) it measures, free to
   impose the measured variable.
@@ -133,7 +137,9 @@ class DerivativeCausality:
         ``len(states) - len(integral)``: the structural rank of ``[A B]``
         (``[A; C]``) restricted to the storage states; None when not applicable.
     integral : tuple of str
-        States whose storage element remains in integral causality.
+        The state names of the storage elements that remain in integral
+        causality (an element in derivative causality in the model is named
+        by the state it would have).
     conflicts : tuple of str
         Per state in ``integral``, the conflict that derivative causality of
         its element meets.

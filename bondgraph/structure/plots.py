@@ -18,7 +18,7 @@ Examples
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Mapping, Optional
+from typing import TYPE_CHECKING, Any, Mapping, Optional
 
 import numpy as np
 
@@ -27,8 +27,8 @@ from ._generic import StructureError
 if TYPE_CHECKING:      # pragma: no cover
     from matplotlib.figure import Figure
 
-    from .placement import PositionSweep, SensorPlacement
-    from .zeros import ZeroStructure
+# the results (SensorPlacement, PositionSweep, ZeroStructure) call these from their plot
+# methods; they are typed Any here so that this module imports none of theirs (no circle)
 
 __all__ = ["plot_placement", "plot_sweep", "plot_pole_zero"]
 
@@ -41,7 +41,7 @@ def _figure(rows: int = 1, height: float = 3.2) -> "Figure":
     return fig
 
 
-def plot_placement(sp: "SensorPlacement") -> "Figure":
+def plot_placement(sp: Any) -> "Figure":
     """The gain of each mode along the beam, its nodes marked (a sensor there does not see it).
 
     One line per mode (``gains`` normalised by the mode's largest gain), a
@@ -66,7 +66,7 @@ def plot_placement(sp: "SensorPlacement") -> "Figure":
     return fig
 
 
-def plot_sweep(sweep: "PositionSweep", placement: Optional["SensorPlacement"] = None
+def plot_sweep(sweep: Any, placement: Optional[Any] = None
                ) -> "Figure":
     """The zeros of ``sensor(x)/input`` along the beam; non-minimum-phase positions shaded.
 
@@ -120,7 +120,7 @@ def _runs(x: np.ndarray, flags: np.ndarray) -> list[tuple[float, float]]:
     return out
 
 
-def plot_pole_zero(zs: "ZeroStructure", values: Mapping[str, float]) -> "Figure":
+def plot_pole_zero(zs: Any, values: Mapping[str, float]) -> "Figure":
     """Poles (x) and invariant zeros (o) of the pair at parameter ``values``."""
     if not values and zs.n:
         raise StructureError("plot: give the parameter values of the poles and zeros")
