@@ -29,7 +29,8 @@ numeric generic rank can only be lower, when causal-path gains cancel, and
 
 The graph method covers the storage elements' states: integrator states (an
 output that integrates a flow) lie outside the bond graph, and an output that
-is not proportional to one effort or flow has no detector; the result then
+is not proportional to one effort or flow (or to a one-port storage
+element's own displacement or momentum) has no detector; the result then
 says so (``applicable`` is False).
 
 Examples
@@ -237,11 +238,16 @@ def _given_bonds(model: Model, chosen: Sequence[str], detectors: Mapping) -> tup
                                  f"{model.name!r}")
         expr = detectors[name]
         sigs = [x for x in getattr(expr, "free_symbols", ()) if isinstance(x, Signal)]
-        if len(sigs) != 1 or sigs[0].variable not in ("effort", "flow") or \
-                (expr / sigs[0]).free_symbols & set(sigs):
-            return [], (f"output {name!r} = {expr} is not proportional to one effort or flow "
-                        "(no single detector measures it)")
+        if len(sigs) != 1 or (expr / sigs[0]).free_symbols & set(sigs) or \
+                sigs[0].variable not in ("effort", "flow") and _stored_bond(model, sigs[0]) is None:
+            return [], (f"output {name!r} = {expr} is not proportional to one effort or flow, "
+                        "nor to a storage element's own displacement or momentum (no single "
+                        "detector measures it)")
         sig = sigs[0]
+        stored = _stored_bond(model, sig)
+        if stored is not None:
+            found.append(stored)
+            continue
         if isinstance(sig.target, int):
             if not 1 <= sig.target <= len(flat.bonds):
                 raise StructureError(f"detectors: {sig} names no bond of model {model.name!r}")
@@ -256,6 +262,27 @@ def _given_bonds(model: Model, chosen: Sequence[str], detectors: Mapping) -> tup
             return [], f"{sig} is not the variable of one bond"
         found.append((flat.incidence[sig.target][carried[0]], sig.variable))
     return found, ""
+
+
+def _stored_bond(model: Model, sig: Signal) -> Optional[tuple[int, str]]:
+    """A one-port storage element's own energy variable (``bg.displacement`` of a C):
+    in a linear model it is proportional to the element's co-energy variable, the one
+    it puts out in integral causality; (bond index, 'effort'/'flow'), else None."""
+    if sig.variable not in ("displacement", "momentum") or sig.port is not None or \
+            not isinstance(sig.target, str):
+        return None
+    aug = model.augmented
+    flat = aug.flat
+    if sig.target not in flat.index:
+        return None
+    el = flat.element(sig.target)
+    inc = flat.incidence[sig.target]
+    if len(inc) != 1 or el.energy_variable(sig.variable) != 0:
+        return None
+    receives = aug.effort_into(sig.target, flat.bonds[inc[0]].number)
+    integral = sig.target in aug.integral
+    puts_out_effort = (not receives) if integral else receives
+    return inc[0], "effort" if puts_out_effort else "flow"
 
 
 def _detector_bonds(model: Model, picked: Sequence[int]) -> tuple[list, str]:

@@ -17,8 +17,9 @@ where its derivative causality conflicts:
   ``B = 0`` (the source enters through its derivative only): rank 0;
 * two free masses and a spring, force on ``m1``: states ``p1, q, p2``,
   ``p1' = F - k q``, ``q' = p1/m1 - p2/m2``, ``p2' = k q``; ``[A B]`` has rank 3;
-  with the spring force ``k q`` measured, ``[A; C]`` has rank 2 (the rigid-body
-  motion is not seen), with the velocity of ``m2`` measured rank 3.
+  with the spring force ``k q`` (or its stretch ``q``) measured, ``[A; C]`` has
+  rank 2 (the rigid-body motion is not seen), with the velocity of ``m2``
+  measured rank 3.
 """
 
 from __future__ import annotations
@@ -125,6 +126,15 @@ def test_two_masses_controllable_rank_and_observability_by_detectors():
     assert _rank(A + [[0, 0, 1 / m2]]) == 3
     obs = observability(bg.derive(two_masses(), outputs=vel), detectors=vel)
     assert obs.graph_rank == 3
+    # the spring's own displacement q = F_k/k: the detector sits on its effort, rank 2
+    stretch = {"xk": bg.displacement("k")}
+    assert _rank(A + [[0, 1, 0]]) == 2
+    obs = observability(bg.derive(two_masses(), outputs=stretch), detectors=stretch)
+    assert obs.graph_rank == 2 and obs.graph.dualised == ("SS:xk",)
+    # the position of a mass is an integrator outside the bond graph: not covered
+    pos = {"x2": bg.displacement("m2")}
+    obs = observability(bg.derive(two_masses(), outputs=pos), detectors=pos)
+    assert obs.graph_rank is None and "not proportional" in obs.graph.why
     # found without detectors= on a small graph: the same detector bond
     auto = derivative_causality(bg.derive(two_masses(), outputs=force), kind="observability")
     assert auto.rank == 2
