@@ -24,7 +24,6 @@ import warnings
 from dataclasses import replace
 from fractions import Fraction
 
-import pytest
 import sympy
 
 import bondgraph as bg
