@@ -17,6 +17,8 @@ generic (almost-all-parameter-values) answer.
   a transfer function determines (:mod:`bondgraph.structure.identifiable`);
 * :func:`invert` -- the input for an output trajectory, with the relative
   degree and minimum-phase conditions (:mod:`bondgraph.structure.inversion`);
+  :func:`bicausal_graph` -- the bicausal bond graph of the inversion, the
+  source-sensor pair and the split strokes (:mod:`bondgraph.structure.bicausal`);
 * :func:`sensor_placement`, :func:`position_sweep` -- which modes a sensor on
   a modal beam observes, the nodes, where a sensor turns a pair
   non-minimum-phase (:mod:`bondgraph.structure.placement`);
@@ -25,6 +27,7 @@ generic (almost-all-parameter-values) answer.
 """
 
 from ._generic import StructureError
+from .bicausal import Bicausal, bicausal_graph
 from .derivative import SS, DerivativeCausality, derivative_causality
 from .mimo import InfiniteZeros, infinite_zeros
 from .inversion import Inversion, invert
@@ -39,6 +42,6 @@ __all__ = ["StructureError", "Reachability", "controllability", "observability",
            "SS", "DerivativeCausality", "derivative_causality",
            "ZeroStructure", "zero_structure", "collocated", "InfiniteZeros", "infinite_zeros",
            "Identifiability", "identifiability", "tf_coefficients", "IdentifiabilityWarning",
-           "Inversion", "invert",
+           "Inversion", "invert", "Bicausal", "bicausal_graph",
            "SensorPlacement", "sensor_placement", "PositionSweep", "position_sweep",
            "FaultDiagnosis", "fault_signatures"]
