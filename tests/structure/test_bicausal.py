@@ -89,3 +89,23 @@ def test_a_pair_the_input_cannot_set_is_refused():
         bicausal_graph(model, signal=bg.effort("C2"))
     with pytest.raises(StructureError, match="not proportional to one"):
         bicausal_graph(model, signal=bg.effort("C2") + bg.effort("C1"))
+
+
+def test_srv02_hub_speed():
+    # the hub (models/srv02.py): Kirchhoff and Newton give w_l/e_in = eta Kg kt /
+    # ((Lm s + Rm)(Jeq s + Beq) + ...): two storage elements, relative degree 2, no zeros;
+    # without the inductance one storage element, relative degree 1
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "models"))
+    import srv02
+
+    omega = srv02.outputs()["omega"]
+    for inductance, expected in ((True, ["I:Jm", "I:Lm"]), (False, ["I:Jm"])):
+        model = bg.derive(srv02.build(inductance=inductance), outputs={"omega": omega})
+        bc = bicausal_graph(model, signal=omega)
+        assert sorted(bc.derivative) == expected and bc.zero_dynamics == ()
+        # the gear and the motor's gyrator carry effort and flow together
+        ends = {st[3] for st in bc.strokes if st[0] in bc.bicausal_bonds}
+        assert {"e_in", "km", "gear"} <= ends
