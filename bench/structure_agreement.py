@@ -61,7 +61,8 @@ def main(argv=None) -> int:
         counts[c.status] += 1
         loose.update(c.bound_not_tight)
         if c.eng is not None:
-            graphs.update(k for k in ("graph_ab", "graph_ac") if c.eng[k] is not None)
+            graphs.update(k for k in ("graph_ab", "graph_ac", "bicausal_rel")
+                          if c.eng[k] is not None)
         if c.status == "disagree":
             bad.append(c)
             print(f"seed {seed}: DISAGREE {c.detail}", flush=True)
@@ -73,7 +74,7 @@ def main(argv=None) -> int:
     print(f"graphs {args.start}..{args.start + args.n - 1}: {dict(counts)} in {dt:.0f} s "
           f"({dt / max(args.n, 1):.2f} s per graph)")
     print(f"structural bound not tight (graphs): {dict(loose)}")
-    print(f"bond-graph rank compared (graphs): {dict(graphs)}")
+    print(f"bond-graph rank / bicausal relative degree compared (graphs): {dict(graphs)}")
     return 1 if bad or counts["crash"] else 0
 
 

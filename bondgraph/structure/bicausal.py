@@ -138,7 +138,14 @@ class Bicausal:
         Per bond: number, tail, head, the element the effort goes to, the
         element the flow goes to (the same element on a bicausal bond).
     derivative : tuple of str
-        Storage elements turned to derivative causality (differentiators of the trajectory).
+        Storage elements in derivative causality (differentiators of the trajectory),
+        including those already in derivative causality in the model.
+    differentiations : int
+        The model's storage states less the zero dynamics: the differentiations
+        of the trajectory, the structural relative degree (equal to the generic
+        one unless causal-path gains cancel).  Dependent storage elements (in
+        derivative causality in the model) may trade places with others, so
+        this is not ``len(derivative)``.
     zero_dynamics : tuple of str
         States that stay integral: the zero dynamics.
     sensor : str
@@ -150,6 +157,7 @@ class Bicausal:
     output: str
     strokes: tuple[tuple[int, str, str, str, str], ...]
     derivative: tuple[str, ...]
+    differentiations: int
     zero_dynamics: tuple[str, ...]
     sensor: str
 
@@ -165,7 +173,8 @@ class Bicausal:
             mark = "  bicausal" if e == f else ""
             lines.append(f"  {n}: {tail} -> {head}: effort to {e}, flow to {f}{mark}")
         lines.append(f"  derivative causality (differentiators): "
-                     f"{', '.join(self.derivative) or '-'}")
+                     f"{', '.join(self.derivative) or '-'} ({self.differentiations} "
+                     "differentiations of the trajectory)")
         lines.append(f"  zero dynamics (integral): {', '.join(self.zero_dynamics) or '-'}")
         return "\n".join(lines)
 
@@ -193,6 +202,52 @@ def _gyrating(el: Element) -> bool:
     except CausalityConflictError:      # pragma: no cover - one decided port cannot conflict
         return False
     return bool(got) and got[0].port == 1 and got[0].effort_in is True
+
+
+def _classes(two, combined: FlatGraph) -> dict[str, tuple[str, bool]]:
+    """(causal class, effort_in in the effort layer) of every free storage pair."""
+    out = {}
+    for el in combined.elements:
+        if isinstance(el, _Pair) and el.forced is None:
+            inc = combined.incidence[el.name]
+            ein = [two.effort_into(el.name, combined.bonds[j].number) for j in inc]
+            cls = el.causal_class(ein, [False, False])
+            if cls in (INTEGRAL, DERIVATIVE):
+                out[el.name] = (cls, ein[0])
+    return out
+
+
+def _fewer_differentiators(two, combined: FlatGraph):
+    """Turn elements back to integral causality while that lowers their number.
+
+    SCAP's integral preference is greedy (the elements nearest the sources
+    first): a differentiator it left may become integral when the path
+    between the source-sensor pair runs elsewhere.  Each differentiator is
+    tried integral, every other element free; an assignment with fewer
+    differentiators replaces the current one."""
+    while True:
+        cls = _classes(two, combined)
+        count = sum(c == DERIVATIVE for c, _ in cls.values())
+        better = None
+        for n, (c, e) in sorted(cls.items()):
+            if c != DERIVATIVE:
+                continue
+            trial = rename(_Pair("p", original=getattr(combined.element(n), "original", None),
+                                 forced=(not e, not e)), n)
+            els = tuple(trial if el.name == n else el for el in combined.elements)
+            flat = FlatGraph(name=combined.name, elements=els, bonds=combined.bonds,
+                             incidence=combined.incidence, index=combined.index)
+            try:
+                found = assign_causality(flat)
+            except CausalityConflictError:
+                continue
+            # the tried element is forced (not counted): fewer means at most count - 1
+            if sum(c2 == DERIVATIVE for c2, _ in _classes(found, combined).values()) < count:
+                better = found
+                break
+        if better is None:
+            return two
+        two = better
 
 
 def _output_bond(model: Model, output: str, signal: Any) -> tuple[int, str]:
@@ -244,7 +299,11 @@ def bicausal_graph(model: Model, input: Optional[str] = None, output: Optional[s
         cannot set this output).
 
     """
+    from ._paths import state_elements
     from .derivative import _detector_bonds
+
+    owners = state_elements(model)
+    storage = [x for x in model.state_names if owners.get(x)]
 
     aug = model.augmented
     if aug is None:
@@ -329,6 +388,7 @@ def bicausal_graph(model: Model, input: Optional[str] = None, output: Optional[s
     except CausalityConflictError as err:
         raise StructureError(f"bicausal: no bicausal assignment sets {y} by {u} in model "
                              f"{model.name!r} ({err})") from err
+    two = _fewer_differentiators(two, combined)
     strokes = []
     for i, q in enumerate(bonds):
         effort_to = q.head if two.stroke_at_head[i] else q.tail
@@ -349,5 +409,6 @@ def bicausal_graph(model: Model, input: Optional[str] = None, output: Optional[s
         elif cls == INTEGRAL:
             zero += el.state_names(ein)
     return Bicausal(model=model.name, input=u, output=y, strokes=tuple(strokes),
-                    derivative=tuple(derivative), zero_dynamics=tuple(zero),
+                    derivative=tuple(derivative),
+                    differentiations=len(storage) - len(zero), zero_dynamics=tuple(zero),
                     sensor=f"SS:{sname}")
