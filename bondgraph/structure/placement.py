@@ -86,6 +86,13 @@ class SensorPlacement:
         peak = np.max(np.abs(np.array(self.gains)), axis=0)
         return tuple(m for m, gi, p in zip(self.modes, g, peak) if abs(gi) > self.tol * p)
 
+    def plot(self):
+        """The gains along the beam with the nodes marked
+        (:func:`bondgraph.structure.plots.plot_placement`); a matplotlib Figure."""
+        from .plots import plot_placement
+
+        return plot_placement(self)
+
     def __str__(self) -> str:
         lines = [f"{self.kind} sensor along a beam of length {self.length:g}: nodes (mode unseen)"]
         for m, xs in zip(self.modes, self.nodes):
@@ -169,6 +176,13 @@ class PositionSweep:
     def first_nonminimum_phase(self) -> Optional[float]:
         """The first position (from the root) where the pair is non-minimum-phase."""
         return next((x for x, f in zip(self.positions, self.nonminimum_phase) if f), None)
+
+    def plot(self, placement: Optional[SensorPlacement] = None):
+        """The zeros along the beam, non-minimum-phase positions shaded, the nodes of
+        ``placement`` marked (:func:`bondgraph.structure.plots.plot_sweep`)."""
+        from .plots import plot_sweep
+
+        return plot_sweep(self, placement)
 
     def __str__(self) -> str:
         x = self.first_nonminimum_phase

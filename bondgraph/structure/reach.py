@@ -7,13 +7,18 @@ Sueur and Dauphin-Tanguy (1991) and Lin (1974):
 1. *Causal paths*: is there a causal path from an input to the state
    (controllability) or from the state to an output (observability)?  A state
    no path reaches is uncontrollable (unobservable) for every parameter value.
-2. *Rank*: the generic rank of ``[A B]`` (of ``[A; C]``).  Its structural
-   value is the size of a maximum matching in the bipartite graph of the
-   nonzero entries (:func:`networkx.bipartite.hopcroft_karp_matching`), the
-   count of storage elements that can be put in derivative causality with the
-   sources dualised; the generic value is the exact rank at random rational
-   parameter points.  The two differ only when the junction structure makes
-   causal-path gains cancel; the result reports both.  The states in the
+2. *Rank*: the rank of ``[A B]`` (of ``[A; C]``), three ways.  From the bond
+   graph (Sueur and Dauphin-Tanguy, :mod:`bondgraph.structure.derivative`):
+   ``n`` minus the storage elements that stay in integral causality when
+   derivative causality is preferred and the sources (detectors) are
+   dualised; each names the junction where its derivative causality
+   conflicts.  From the equations: the size of a maximum matching in the
+   bipartite graph of the nonzero entries
+   (:func:`networkx.bipartite.hopcroft_karp_matching`).  Numerically: the
+   exact rank at random rational parameter points (the generic rank, the
+   cross-check).  The structural values are upper bounds of the generic one
+   and differ from it only when causal-path gains cancel (junction-structure
+   gains of opposite sign); the result reports all three.  The states in the
    support of the left kernel are the ones involved in a deficiency, with the
    junctions they share.
 
@@ -35,13 +40,15 @@ Examples
 >>> res.generic_rank, res.controllable, res.lost
 (1, False, ('q_C1', 'q_C2'))
 >>> print(res.reason("q_C2"))
-q_C2 (C:C2): reached by a causal path (i -> q_C2) but [A B] has rank 1 < 2: q_C1, q_C2 share the junction j
+q_C2 (C:C2): reached by a causal path (i -> q_C2) but [A B] has rank 1 < 2: q_C1, q_C2 share the junction j; in derivative causality with the sources dualised C:C2 stays integral, its derivative causality conflicts at the junction j
+>>> res.graph_rank
+1
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Optional, Sequence
+from typing import Any, Mapping, Optional, Sequence
 
 import networkx as nx
 import sympy
@@ -50,6 +57,7 @@ from ..model import Model
 from ._generic import (LinearForm, StructureError, at_point, exact_rank, left_kernel_support,
                        linear_form, random_points, term_rank)
 from ._paths import bond_path, path_names, signal_digraph, state_elements
+from .derivative import DerivativeCausality, derivative_causality
 
 __all__ = ["Reachability", "controllability", "observability"]
 
@@ -87,6 +95,10 @@ class Reachability:
     lost : tuple of str
         States on which an uncontrollable (unobservable) direction has a
         component, for almost all parameter values.
+    graph : DerivativeCausality or None
+        The bond graph in derivative causality with the sources (detectors)
+        dualised, Sueur and Dauphin-Tanguy's structural rank and the junctions
+        where it is lost (drawable: ``res.graph.draw()``).
     """
 
     kind: str
@@ -102,10 +114,41 @@ class Reachability:
     shared: tuple[str, ...]
     kalman_rank: int
     lost: tuple[str, ...]
+    graph: Optional[DerivativeCausality] = None
 
     @property
     def n(self) -> int:
         return len(self.states)
+
+    @property
+    def graph_rank(self) -> Optional[int]:
+        """Structural rank from the bond graph in derivative causality (None: not applicable,
+        see ``graph.why``); covers the storage states, not the output integrators."""
+        return self.graph.rank if self.graph is not None else None
+
+    def draw(self, path=None, **options) -> str:
+        """Draw the bond graph in derivative causality with the dualised ports
+        (:meth:`DerivativeCausality.draw`)."""
+        if self.graph is None:
+            raise StructureError(f"{self.kind} of {self.model!r}: no bond graph to draw")
+        return self.graph.draw(path, **options)
+
+    def _graph_text(self, state: str) -> str:
+        g = self.graph
+        if g is None or not g.applicable:
+            return ""
+        ports = "sources" if self.kind == "controllability" else "detectors"
+        if state in g.integral:
+            el = self.elements[self._index(state)] or state
+            where = g.junctions[g.integral.index(state)]
+            return (f"; in derivative causality with the {ports} dualised {el} stays integral, "
+                    f"its derivative causality conflicts at the junction {where}")
+        if g.integral:
+            return (f"; in derivative causality with the {ports} dualised "
+                    f"{', '.join(g.integral)} stay{'s' if len(g.integral) == 1 else ''} integral "
+                    f"(conflicts at {', '.join(dict.fromkeys(g.junctions))})")
+        return (f"; the bond graph in derivative causality gives rank {g.rank} (causal-path "
+                "gains cancel)")
 
     @property
     def unreached(self) -> tuple[str, ...]:
@@ -149,7 +192,8 @@ class Reachability:
         via = f"reached by a causal path ({' -> '.join(self.paths[i])})"
         if state in self.deficient:
             where = f": {', '.join(self.deficient)} share {self._shared_text()}"
-            return f"{label}: {via} but {mat} has rank {self.generic_rank} < {self.n}{where}"
+            return (f"{label}: {via} but {mat} has rank {self.generic_rank} < {self.n}{where}"
+                    + self._graph_text(state))
         if state in self.lost:
             word2 = "controllability" if self.kind == "controllability" else "observability"
             return (f"{label}: {via} and {mat} has full rank, but the {word2} matrix has rank "
@@ -168,8 +212,11 @@ class Reachability:
         lines = [f"structural {self.kind} of {self.model!r} {sig}{', '.join(self.signals)}"]
         lines += ["  " + self.reason(s) for s in self.states]
         mat = "[A B]" if self.kind == "controllability" else "[A; C]"
+        g = self.graph
+        by_graph = (f"{g.rank} of {len(g.states)} storage states" if g is not None and
+                    g.applicable else f"not applicable: {g.why}" if g is not None else "-")
         lines.append(f"  rank {mat} = {self.generic_rank} of {self.n} (by matching: "
-                     f"{self.structural_rank})")
+                     f"{self.structural_rank}; bond graph in derivative causality: {by_graph})")
         verdict = "yes" if self.controllable else "no"
         word = "controllable" if self.kind == "controllability" else "observable"
         lines.append(f"  {word} for almost all parameter values: {verdict} "
@@ -226,7 +273,7 @@ def _shared(model: Model, elements: Sequence[Optional[str]]) -> tuple[str, ...]:
     return tuple(sorted(n for n, c in count.items() if c >= 2))
 
 
-def _analyse(model: Model, kind: str, pick, seed: int) -> Reachability:
+def _analyse(model: Model, kind: str, pick, seed: int, detectors=None) -> Reachability:
     lf: LinearForm = linear_form(model)
     n = len(lf.states)
     owners = state_elements(model)
@@ -291,7 +338,8 @@ def _analyse(model: Model, kind: str, pick, seed: int) -> Reachability:
         paths=tuple(paths), bond_paths=tuple(bond_paths),
         structural_rank=term_rank(M), generic_rank=grank, deficient=deficient,
         shared=_shared(model, [owners[s] for s in deficient]),
-        kalman_rank=kal, lost=tuple(lf.states[i] for i in lost_idx) if kal < n else ())
+        kalman_rank=kal, lost=tuple(lf.states[i] for i in lost_idx) if kal < n else (),
+        graph=derivative_causality(model, kind=kind, signals=signals, detectors=detectors))
 
 
 def controllability(model: Model, *, inputs: Sequence[str] | str | None = None,
@@ -334,11 +382,15 @@ def controllability(model: Model, *, inputs: Sequence[str] | str | None = None,
 
 
 def observability(model: Model, *, outputs: Sequence[str] | str | None = None,
+                  detectors: Optional[Mapping[str, Any]] = None,
                   seed: int = 0) -> Reachability:
     """Structural observability of each state from the outputs.
 
     The dual of :func:`controllability`: causal paths from each state to an
     output, the generic rank of ``[A; C]`` and of the observability matrix.
+    ``detectors`` (the ``outputs`` given to :func:`bondgraph.derive`) places
+    the dualised detectors of the bond-graph rank without searching for them
+    (:func:`bondgraph.structure.derivative_causality`).
 
     Examples
     --------
@@ -352,4 +404,4 @@ def observability(model: Model, *, outputs: Sequence[str] | str | None = None,
     >>> res.structural, res.path("q_C1")
     (True, ('q_C1', 'v'))
     """
-    return _analyse(model, "observability", outputs, seed)
+    return _analyse(model, "observability", outputs, seed, detectors)

@@ -156,6 +156,12 @@ class ZeroStructure:
         merged = sorted([(w, "p") for w in wp] + [(w, "z") for w in wz])
         return all(a[1] != b[1] for a, b in zip(merged, merged[1:]))
 
+    def plot(self, values: Mapping[str, float]):
+        """Poles and zeros at ``values`` (:func:`bondgraph.structure.plots.plot_pole_zero`)."""
+        from .plots import plot_pole_zero
+
+        return plot_pole_zero(self, values)
+
     def __str__(self) -> str:
         lines = [f"zero structure of {self.output}/{self.input} in {self.model!r} "
                  f"({self.n} states)"]
