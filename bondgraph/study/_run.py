@@ -184,7 +184,8 @@ class _NoBar:
 
 def run_chunks(nm: NumericModel, metrics: Sequence[Metric], full: np.ndarray, *,
                executor: Any = None, chunk_size: Optional[int] = None, progress: bool = True,
-               desc: str = "study") -> tuple[np.ndarray, list[Optional[str]]]:
+               desc: str = "study", timeout: Optional[float] = None
+               ) -> tuple[np.ndarray, list[Optional[str]]]:
     """Evaluate every row of ``full`` (``(N, k)``) in chunks on ``executor``; results in order.
 
     ``executor``: None (in this process), a :class:`concurrent.futures.Executor`
@@ -192,12 +193,21 @@ def run_chunks(nm: NumericModel, metrics: Sequence[Metric], full: np.ndarray, *,
     chunk) or a ``dask.distributed.Client`` (the compiled model is scattered
     to every worker once; the progress bar follows completed futures).
 
+    ``timeout`` (seconds, on an executor): the samples of chunks not finished
+    by then get the error "not finished within ..." and the study returns
+    (a metric that never returns cannot hang it).  On a Dask client, a chunk
+    whose worker died (``KilledWorker``) marks its samples failed instead of
+    losing the study.
+
     Raises
     ------
     StudyError
-        A bad ``chunk_size`` or ``executor``, or a task that could not run
-        (a metric the executor cannot send, a worker that died).
+        A bad ``chunk_size``, ``executor`` or ``timeout``, or a task that could
+        not run (a metric the executor cannot send).
     """
+    if timeout is not None and (isinstance(timeout, bool) or not isinstance(timeout, (int, float))
+                                or not math.isfinite(timeout) or timeout <= 0):
+        raise StudyError(f"timeout must be a positive number of seconds or None; got {timeout!r}")
     N = full.shape[0]
     if chunk_size is None:
         size = default_chunk_size(N)
@@ -213,9 +223,14 @@ def run_chunks(nm: NumericModel, metrics: Sequence[Metric], full: np.ndarray, *,
     errors: list[Optional[str]] = [None] * N
     bar = _progress(N, progress, desc)
 
-    def store(index: int, result: tuple[np.ndarray, list]) -> None:
-        values, errs = result
+    def store(index: int, result: Any) -> None:
         s = starts[index]
+        if isinstance(result, str):         # the whole chunk failed or timed out
+            n = len(blocks[index])
+            errors[s:s + n] = [result] * n
+            bar.update(n)
+            return
+        values, errs = result
         out[s:s + len(errs)] = values
         errors[s:s + len(errs)] = errs
         bar.update(len(errs))
@@ -225,10 +240,10 @@ def run_chunks(nm: NumericModel, metrics: Sequence[Metric], full: np.ndarray, *,
             for index, block in enumerate(blocks):
                 store(index, evaluate_chunk(nm, metrics, block))
         elif _is_dask_client(executor):
-            for index, result in _dask(executor, nm, metrics, blocks):
+            for index, result in _dask(executor, nm, metrics, blocks, timeout):
                 store(index, result)
         elif isinstance(executor, cf.Executor):
-            for index, result in _pool(executor, nm, metrics, blocks):
+            for index, result in _pool(executor, nm, metrics, blocks, timeout):
                 store(index, result)
         else:
             raise StudyError("executor must be None, a concurrent.futures.Executor or a "
@@ -244,27 +259,44 @@ def _task_failed(exc: BaseException) -> StudyError:
                       "defined at module level) and the workers must have bondgraph installed")
 
 
+def _late(timeout: Optional[float]) -> str:
+    return (f"not finished within the study's timeout of {timeout:g} s (a metric that does not "
+            "return?); its samples were abandoned")
+
+
 def _pool(executor: cf.Executor, nm: NumericModel, metrics: Sequence[Metric],
-          blocks: Sequence[np.ndarray]) -> Iterator[tuple[int, Any]]:
+          blocks: Sequence[np.ndarray], timeout: Optional[float]) -> Iterator[tuple[int, Any]]:
     futures = {}
+    finished: set = set()
     try:
         for index, block in enumerate(blocks):
             futures[executor.submit(evaluate_chunk, nm, metrics, block)] = index
-        for fut in cf.as_completed(futures):
-            try:
-                result = fut.result()
-            except Exception as exc:
-                raise _task_failed(exc) from exc
-            yield futures[fut], result
+        try:
+            for fut in cf.as_completed(futures, timeout=timeout):
+                finished.add(fut)
+                try:
+                    result = fut.result()
+                except Exception as exc:
+                    raise _task_failed(exc) from exc
+                yield futures[fut], result
+        except cf.TimeoutError:
+            for fut, index in futures.items():
+                if fut not in finished:
+                    yield index, _late(timeout)
     finally:
         for fut in futures:
             fut.cancel()
 
 
 def _dask(client: Any, nm: NumericModel, metrics: Sequence[Metric],
-          blocks: Sequence[np.ndarray]) -> Iterator[tuple[int, Any]]:
+          blocks: Sequence[np.ndarray], timeout: Optional[float]) -> Iterator[tuple[int, Any]]:
     distributed = sys.modules["distributed"]
+    # a worker that died: KilledWorker, or the task "cancelled for reason: already forgotten"
+    lost = tuple(c for c in (getattr(sys.modules.get("distributed.scheduler"), "KilledWorker", None),
+                             getattr(sys.modules.get("distributed.client"), "FutureCancelledError",
+                                     None)) if c is not None)
     futures: dict = {}
+    finished: set = set()
     try:
         try:
             model_future = client.scatter(nm, broadcast=True, hash=False)
@@ -273,14 +305,25 @@ def _dask(client: Any, nm: NumericModel, metrics: Sequence[Metric],
         for index, block in enumerate(blocks):
             fut = client.submit(evaluate_chunk, model_future, metrics, block, pure=False)
             futures[fut] = index
-        done = distributed.as_completed(list(futures), with_results=True, raise_errors=False)
-        for fut, result in done:
-            if fut.status != "finished":
-                try:
-                    fut.result()
-                except Exception as exc:
-                    raise _task_failed(exc) from exc
-                raise _task_failed(RuntimeError(f"task {fut.status}"))
-            yield futures[fut], result
+        done = distributed.as_completed(list(futures), with_results=True, raise_errors=False,
+                                        timeout=timeout)
+        try:
+            for fut, result in done:
+                finished.add(fut)
+                if fut.status != "finished":
+                    try:
+                        fut.result()
+                    except lost as exc:         # the worker died on these samples
+                        yield futures[fut], (f"the worker running these samples died "
+                                             f"({_describe(exc)}); a metric crashed it?")
+                        continue
+                    except Exception as exc:
+                        raise _task_failed(exc) from exc
+                    raise _task_failed(RuntimeError(f"task {fut.status}"))
+                yield futures[fut], result
+        except (TimeoutError, distributed.TimeoutError):
+            for fut, index in futures.items():
+                if fut not in finished:
+                    yield index, _late(timeout)
     finally:
         client.cancel(list(futures))

@@ -80,7 +80,8 @@ def sweep(model: Any, parameters: Mapping[Any, Any], metric: Any, *,
           values: Optional[Mapping[Any, Any]] = None, n: Optional[int] = None,
           design: Design = "sobol", seed: Optional[int] = None, executor: Any = None,
           chunk_size: Optional[int] = None, progress: bool = True,
-          input: Optional[str] = None, output: Optional[str] = None):
+          input: Optional[str] = None, output: Optional[str] = None,
+          timeout: Optional[float] = None):
     """Sample parameters, evaluate metrics of each sample's plant, return a table.
 
     Parameters
@@ -116,6 +117,10 @@ def sweep(model: Any, parameters: Mapping[Any, Any], metric: Any, *,
         Show a ``tqdm`` progress bar.
     input, output : str, optional
         The channel of channel metrics named by string (``"dc_gain"``).
+    timeout : float, optional
+        Seconds the study may take on an executor: the samples of chunks not
+        finished by then are returned with an ``error`` saying so (a metric
+        that never returns cannot hang the study).
 
     Returns
     -------
@@ -147,7 +152,7 @@ def sweep(model: Any, parameters: Mapping[Any, Any], metric: Any, *,
     X, name = design_points(prepared.specs, design, n, seed)
     out, errors = run_chunks(prepared.nm, metrics, prepared.full(X), executor=executor,
                              chunk_size=chunk_size, progress=progress,
-                             desc=f"sweep {prepared.nm.model.name}")
+                             desc=f"sweep {prepared.nm.model.name}", timeout=timeout)
     df = _frame(pd, prepared, metrics, X, out, errors)
     failed = sum(e is not None for e in errors)
     df.attrs.update({
