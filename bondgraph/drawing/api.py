@@ -29,6 +29,11 @@ __all__ = ["draw", "repr_svg"]
 _FORMATS = ("svg", "png", "tex")
 
 
+#: the most elements :func:`draw` lays out (a budget: a 100-cell chain, about 400
+#: elements, takes half a minute; 1,500 cells took minutes and fit no page)
+MAX_DRAW_ELEMENTS = 600
+
+
 def draw(obj: Drawable, path: Union[str, os.PathLike, None] = None, *,
          fmt: Optional[str] = None, causality: bool = True, expand: bool = True,
          wrap: int = 14, dpi: float = 150.0, standalone: bool = True,
@@ -96,7 +101,8 @@ def draw(obj: Drawable, path: Union[str, os.PathLike, None] = None, *,
     ------
     DrawingError
         For an unknown format or suffix, ``expand=False`` on a flattened graph,
-        or (TikZ) a name LaTeX cannot typeset.
+        more than :data:`MAX_DRAW_ELEMENTS` elements, or (TikZ) a name LaTeX
+        cannot typeset.
     CausalityConflictError
         When causality cannot be assigned (draw with ``causality=False``).
 
@@ -125,6 +131,12 @@ def draw(obj: Drawable, path: Union[str, os.PathLike, None] = None, *,
     elif fmt is not None and fmt.lower() not in _FORMATS:
         raise DrawingError(f"unknown drawing format {fmt!r}; expected one of {', '.join(_FORMATS)}")
     diag = diagram(obj, causality=causality, expand=expand)
+    if len(diag.nodes) > MAX_DRAW_ELEMENTS:
+        raise DrawingError(
+            f"model {diag.name!r} has {len(diag.nodes):,} elements to draw, more than "
+            f"{MAX_DRAW_ELEMENTS:,} (bondgraph.drawing.api.MAX_DRAW_ELEMENTS): its layout would "
+            "take minutes and no page could show it legibly; draw a part of it (a sub-model, "
+            "or expand=False to show sub-models as boxes), or raise the limit")
     if not prefixes:
         from .labels import without_prefixes
         diag = without_prefixes(diag)
