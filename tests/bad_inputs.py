@@ -953,6 +953,65 @@ def arx_complex(d):
     arx(u + 1j, u, na=1, nb=1)
 
 
+@case("hostile files and huge inputs", "SymbolicTF.from_expr(1/(s - s)) (zoo)",
+      bg.BondGraphError, r"expected a finite rational function of s; got zoo")
+def tf_from_zoo(d):
+    from bondgraph.tf import SymbolicTF
+    s = sympy.Symbol("s")
+    SymbolicTF.from_expr(1 / (s - s), s)
+
+
+@case("hostile files and huge inputs", "SymbolicTF.from_expr(exp(-s)) (a delay)",
+      bg.BondGraphError, r"expected a rational function of s .*Pade")
+def tf_from_delay(d):
+    from bondgraph.tf import SymbolicTF
+    s = sympy.Symbol("s")
+    SymbolicTF.from_expr(sympy.exp(-s), s)
+
+
+@case("hostile files and huge inputs", "simulate with t_eval of 10**8 times", bg.BondGraphError,
+      r"t_eval has 100,000,000 times.*budget")
+def simulate_huge_t_eval(d):
+    bg.simulate(msd_model(), VALUES, (0.0, 1.0), t_eval=range(10**8))
+
+
+@case("hostile files and huge inputs", "IField of a dense symbolic 8x8 matrix", bg.FieldError,
+      r"IF:M: the mass matrix: its symbolic inverse is too large.*40,320 terms")
+def dense_symbolic_field(d):
+    M = [[sympy.Symbol(f"m{min(i, j)}{max(i, j)}") for j in range(8)] for i in range(8)]
+    g = bg.BondGraph("f")
+    g.add(bg.IField("M", M))
+    for i in range(8):
+        g.add(bg.Se(f"F{i}"))
+        g.connect(f"F{i}", "M")
+    bg.derive(g)
+
+
+@case("hostile files and huge inputs", "two parameter Symbols named k (positive, real)",
+      bg.NameClashError, r"two different parameter Symbols print as 'k'")
+def twin_parameter_symbols(d):
+    g = bg.BondGraph("tk")
+    g.add(bg.Se("F"), bg.One("v"), bg.I("m"), bg.R("b", sympy.Symbol("k", positive=True)),
+          bg.C("c", sympy.Symbol("k", real=True)))
+    for t, h in [("F", "v"), ("v", "m"), ("v", "b"), ("v", "c")]:
+        g.connect(t, h)
+    bg.derive(g)
+
+
+@case("hostile files and huge inputs", "draw of a 200-cell chain (801 elements)", bg.BondGraphError,
+      r"'chain' has 801 elements to draw, more than 600")
+def draw_too_large(d):
+    g = bg.BondGraph("chain")
+    g.add(bg.Se("F"))
+    prev = "F"
+    for i in range(200):
+        g.add(bg.One(f"v{i}"), bg.I(f"m{i}"), bg.Zero(f"f{i}"), bg.C(f"k{i}"))
+        for t, h in [(prev, f"v{i}"), (f"v{i}", f"m{i}"), (f"v{i}", f"f{i}"), (f"f{i}", f"k{i}")]:
+            g.connect(t, h)
+        prev = f"f{i}"
+    bg.draw(g)
+
+
 def render(results: list[tuple[Case, str]]) -> str:
     """The catalogue as a Markdown page (``docs/errors.md``)."""
     lines = ["# Errors: the bad-input catalogue", "",

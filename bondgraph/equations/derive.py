@@ -47,7 +47,7 @@ from ..graph import BondGraph
 from .implicit import ImplicitPart
 from .integrators import state_combination
 from .loops import SingularLoopError, compact_linear, solve_blocks
-from .name_policy import twin_symbols
+from .name_policy import check_output_names, twin_symbols
 from .record import StateEquations
 from ..elements.protocol import Element, LocalVariables
 from ..signals import Signal, t as T_SYM
@@ -182,8 +182,7 @@ class _Deriver:
         self.broken: dict[int, sympy.Symbol] = {}     # var -> loop unknown
         # what no symbolic solve eliminates: algebraic unknowns and residuals
         self.implicit = ImplicitPart(self)
-        # storage in derivative causality: its output variable and stored quantity are
-        # unknowns during the causal sweep, resolved once the algebraic loops are solved
+        # derivative causality: output variable and stored quantity unknown until loops are solved
         self.dependent: dict[int, str] = {}            # output var -> element name
         self.dependent_vars: dict[str, list[int]] = {}  # element name -> its output vars
         self.stored_sym: dict[str, tuple[sympy.Symbol, ...]] = {}  # element -> its p or q
@@ -599,6 +598,7 @@ class _Deriver:
         algebraic, residuals, origin, rhs, out_exprs = self.implicit.finish(
             set(self.xdot.values()), rhs, out_exprs)
         self._check_parameter_names(list(rhs) + list(out_exprs) + list(residuals))
+        check_output_names(self.flat.name, dict(zip(self.outputs, out_exprs)), states, self.input_syms)
         inputs = tuple(self.input_syms)
         udots = tuple(self.udot[u] for u in inputs
                       if any(self.udot[u] in r.free_symbols for r in list(rhs) + out_exprs))
