@@ -298,7 +298,7 @@ def _enter(sm, mode, full, q_exprs, x, n, sub, Q, Z, H, sig_list, own, sig_expr)
                           "stored energy that is not quadratic: the re-initialisation (a projection "
                           "in the energy metric) is not a linear map; only linear storage can be "
                           "exported with this mode")
-        c = sympy.Matrix([sympy.sympify(e).xreplace(zero) for e in q_exprs])
+        c = sympy.Matrix([sympy.sympify(e, strict=True).xreplace(zero) for e in q_exprs])
         qv = sympy.Matrix(Q)
         if n:
             A = M.T * Qh * M
@@ -314,6 +314,6 @@ def _enter(sm, mode, full, q_exprs, x, n, sub, Q, Z, H, sig_list, own, sig_expr)
         new_x = {xs_: sub[xs_] for xs_ in xs}
     for j, (_, sig) in enumerate(full.integrators):
         new_x[x[n + j]] = Z[sig_list.index(sig)]
-    z_new = [Z[i] if sig in own else sympy.sympify(sig_expr[sig]).xreplace(new_x)
+    z_new = [Z[i] if sig in own else sympy.sympify(sig_expr[sig], strict=True).xreplace(new_x)
              for i, sig in enumerate(sig_list)]
     return tuple(q_new) + tuple(z_new)

@@ -22,7 +22,7 @@ Examples
 >>> R = sympy.Matrix([[1], [0]])
 >>> list(solve_fraction_free(M, R, budget=100))
 [b/(a*b - 1), -1/(a*b - 1)]
->>> solve_fraction_free(M, R, budget=3)     # past the budget
+>>> solve_fraction_free(M, R, budget=0)     # past the budget
 'too large'
 """
 

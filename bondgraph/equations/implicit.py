@@ -86,11 +86,11 @@ class ImplicitPart:
 
     def add_loops(self, blocks: list) -> None:
         """Loop blocks kept unsolved by :func:`~bondgraph.equations.loops.solve_blocks`:
-        ``(block, residuals, kind)``, ``kind`` ``"nonlinear"`` or ``"linear"`` (a
+        ``(block, residuals, nature)``, ``nature`` ``"nonlinear"`` or ``"linear"`` (a
         linear loop past the exact solver's term budget)."""
         var_of = {sym: v for v, sym in self.d.broken.items()}
         arbitrary = set(self.d.aug.arbitrary)
-        for block, residuals, kind in blocks:
+        for block, residuals, nature in blocks:
             bonds = [self.d.bonds[var_of[u] // 2] for u in block]
             elements = tuple(dict.fromkeys(
                 self.d.flat.element(end).label() for b in bonds for end in (b.tail, b.head)
@@ -102,10 +102,10 @@ class ImplicitPart:
                 stem = f"{self._what(v)[0]}_{owner if owner is not None else b.number}"
                 named = self._name(stem, f"the {self._what(v)} of {self._bond(v)} "
                                          "(an algebraic unknown)")
-                why = ("" if kind == "nonlinear" else
+                why = ("" if nature == "nonlinear" else
                        " (kept unsolved: its exact symbolic solution passes the term budget "
                        "bondgraph.equations.loops.LOOP_TERM_BUDGET)")
-                origin = (f"the {self._what(v)} of {self._bond(v)}, in a {kind} algebraic "
+                origin = (f"the {self._what(v)} of {self._bond(v)}, in a {nature} algebraic "
                           f"loop through {', '.join(elements) or 'the junction structure'}{why}")
                 self.entries.append([u, named, r, origin, elements])
 

@@ -162,8 +162,8 @@ def solve_blocks(unknowns: dict[sympy.Symbol, sympy.Expr], *, knowns: set, what:
     implicit : list, optional
         When given, a block nonlinear in its unknowns, or linear but past
         :data:`LOOP_TERM_BUDGET`, is not refused: its unknowns stay unsolved
-        (symbols in what follows) and ``(block, residuals, kind)`` is
-        appended, with ``residuals[i] = u_i - expr_i = 0`` and ``kind``
+        (symbols in what follows) and ``(block, residuals, nature)`` is
+        appended, with ``residuals[i] = u_i - expr_i = 0`` and ``nature``
         ``"nonlinear"`` or ``"linear"``.
 
     Raises

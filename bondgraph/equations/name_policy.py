@@ -92,10 +92,11 @@ def twin_symbols(model: str, first: sympy.Symbol, second: sympy.Symbol) -> NameC
     def assumed(sym: sympy.Symbol) -> str:
         given = dict(getattr(sym, "_assumptions_orig", None) or {})
         return "{" + ", ".join(f"{k}: {v}" for k, v in sorted(given.items())) + "}"
+    one, two = sorted((assumed(first), assumed(second)))     # the same text in every process
     return NameClashError(
         f"model {model!r}: two different parameter Symbols print as {first.name!r} "
-        f"(assumptions {assumed(first)} and {assumed(second)}); one value could not tell them "
-        "apart: use one Symbol, or rename one")
+        f"(assumptions {one} and {two}); one value could not tell them apart: use one "
+        "Symbol, or rename one")
 
 
 def check_output_names(model: str, outputs: Mapping[str, sympy.Expr], states: Iterable[sympy.Symbol],

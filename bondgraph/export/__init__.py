@@ -161,6 +161,19 @@ def _check_exportable(plant: NumericStateSpace) -> None:
             f"{', '.join(plant.state_names)}; export is refused rather than mislabelled")
 
 
+def _refuse_non_finite(plant: NumericStateSpace, where: str, form: str) -> None:
+    """:class:`ExportError` naming the first NaN, infinite or complex entry of A, B, C, D."""
+    for key in ("A", "B", "C", "D"):
+        matrix = getattr(plant, key)
+        matrix = matrix.toarray() if issparse(matrix) else np.asarray(matrix)
+        bad = np.argwhere(~np.isfinite(matrix)) if np.isrealobj(matrix) else np.argwhere(matrix.imag != 0)
+        if bad.size:
+            i, j = (int(k) for k in bad[0])
+            raise ExportError(f"cannot write '{where}': {key}[{i}, {j}] is {matrix[i, j]} "
+                              f"({form} holds finite real numbers only: no NaN, infinity or complex)",
+                              path=where)
+
+
 def export_mat(plant: NumericStateSpace, path: PathLike, *,
                units: Optional[Mapping[str, str]] = None) -> None:
     """Write a MATLAB/Octave ``.mat`` file (see the module docstring for its variables).
@@ -390,15 +403,7 @@ def export_json(plant: NumericStateSpace, path: PathLike, *,
         doc["units"] = {n: str(units[n]) for n in (*doc["states"], *doc["inputs"], *doc["outputs"])
                         if n in units}
     where = os.fspath(target_path(path))
-    for key in ("A", "B", "C", "D"):
-        matrix = getattr(plant, key)
-        matrix = matrix.toarray() if issparse(matrix) else np.asarray(matrix)
-        bad = np.argwhere(~np.isfinite(matrix)) if np.isrealobj(matrix) else np.argwhere(matrix.imag != 0)
-        if bad.size:
-            i, j = (int(k) for k in bad[0])
-            raise ExportError(f"cannot write '{where}': {key}[{i}, {j}] is {matrix[i, j]} "
-                              "(JSON holds finite real numbers only: no NaN, infinity or complex)",
-                              path=where)
+    _refuse_non_finite(plant, where, "JSON")
     for name, value in doc["parameters"].items():
         problem = number_problem(value)
         if problem is not None:

@@ -155,11 +155,6 @@ class NumericStateSpace(SignalCounts):
                 raw = np.reshape(np.asarray(raw, dtype=float), expected_shape(shape_of, n, m, p))
             arr = convert(raw, label)
             check_matrix_shape(shape_of, arr.shape, n, m, p, NumericError)
-            values = arr.data if issparse(arr) else arr
-            if not np.all(np.isfinite(values)):
-                where = np.argwhere(~np.isfinite(np.asarray(arr.toarray() if issparse(arr) else arr)))
-                raise NumericError(f"{label}{tuple(int(v) for v in where[0])} is "
-                                   f"{arr[tuple(where[0])]}; a plant's entries must be finite")
             return arr
         for label in "ABCD":
             object.__setattr__(self, label, checked(getattr(self, label), label, label))
