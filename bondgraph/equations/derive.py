@@ -47,7 +47,7 @@ from ..graph import BondGraph
 from .implicit import ImplicitPart
 from .integrators import state_combination
 from .loops import SingularLoopError, compact_linear, solve_blocks
-from .name_policy import check_output_names, twin_symbols
+from .name_policy import twin_symbols
 from .record import StateEquations
 from ..elements.protocol import Element, LocalVariables
 from ..signals import Signal, t as T_SYM
@@ -598,7 +598,6 @@ class _Deriver:
         algebraic, residuals, origin, rhs, out_exprs = self.implicit.finish(
             set(self.xdot.values()), rhs, out_exprs)
         self._check_parameter_names(list(rhs) + list(out_exprs) + list(residuals))
-        check_output_names(self.flat.name, dict(zip(self.outputs, out_exprs)), states, self.input_syms)
         inputs = tuple(self.input_syms)
         udots = tuple(self.udot[u] for u in inputs
                       if any(self.udot[u] in r.free_symbols for r in list(rhs) + out_exprs))

@@ -24,7 +24,7 @@ import sympy
 from ..errors import NameClashError
 from ..signals import LawVariable, Signal, t as T_SYM
 
-__all__ = ["check_element_symbols", "check_output_names", "twin_symbols"]
+__all__ = ["check_element_symbols", "twin_symbols"]
 
 
 def _symbols(value: Any) -> Iterator[sympy.Symbol]:
@@ -98,31 +98,3 @@ def twin_symbols(model: str, first: sympy.Symbol, second: sympy.Symbol) -> NameC
         f"(assumptions {one} and {two}); one value could not tell them apart: use one "
         "Symbol, or rename one")
 
-
-def check_output_names(model: str, outputs: Mapping[str, sympy.Expr], states: Iterable[sympy.Symbol],
-                       inputs: Iterable[sympy.Symbol]) -> None:
-    """Refuse an output that prints like a state, an input or time but is something else.
-
-    An output named like a state *is* that state when its expression is the state
-    (the SRV-02's ``theta``): accepted.  Otherwise tables, plants and FMUs would
-    show two different signals under one name.
-
-    Examples
-    --------
-    >>> import sympy
-    >>> p = sympy.Symbol("p_m", real=True)
-    >>> check_output_names("m", {"p_m": p}, [p], [])          # the state itself
-    >>> check_output_names("m", {"p_m": 2 * p}, [p], [])
-    Traceback (most recent call last):
-    ...
-    bondgraph.errors.NameClashError: model 'm': the output 'p_m' prints like the state p_m but is 2*p_m; rename the output
-    """
-    taken = {x.name: (x, "state") for x in states}
-    taken.update({u.name: (u, "input") for u in inputs})
-    taken.update({T_SYM.name: (T_SYM, "time"), "time": (T_SYM, "time")})
-    for name, expr in outputs.items():
-        if name in taken and expr != taken[name][0]:
-            sym, role = taken[name]
-            what = "time" if role == "time" else f"the {role} {sym.name}"
-            raise NameClashError(f"model {model!r}: the output {name!r} prints like {what} but is "
-                                 f"{expr}; rename the output")

@@ -29,7 +29,6 @@ import sympy
 
 from ..model import Model
 from ..signals import t as T_SYM
-from ._build import FMUError
 from ._defaults import Experiment, RunDefaults
 
 __all__ = ["Variable", "Plan", "make_plan", "fmi_name", "xml_text", "STEP_NAME"]
@@ -195,11 +194,6 @@ def make_plan(model: Model, parameters: Sequence[float], *, step: Optional[float
     nominals = defaults.nominals if defaults is not None else (1.0,) * len(model.states)
     names = _Names()
     states, inputs, params = model.states, model.inputs, model.parameters
-    for kind, syms in (("state", states), ("input", inputs), ("parameter", params)):
-        for sym in syms:        # the FMI names of the independent variable and derivatives
-            if sym.name == "time" or re.fullmatch(r"der\(.*\)", sym.name):
-                raise FMUError(f"model {model.name!r}: the {kind} {sym.name!r} would be named like "
-                               "FMI's independent variable or a state derivative; rename it")
     # the model's own names first: they are what users set start values by
     state_names = [names.claim(fmi_name(s.name)) for s in states]
     input_names = [names.claim(fmi_name(s.name)) for s in inputs]
