@@ -176,9 +176,12 @@ def test_signal_during_export_leaves_nothing(tmp_path, sig):
     model.write_text(MSD)
     out = tmp_path / "out"
     out.mkdir()
+    # the child must not inherit an ignored SIGHUP (a suite started under nohup): the command
+    # line deliberately leaves an ignored signal ignored
     proc = subprocess.Popen([sys.executable, "-c", EXPORT_SLOWLY, "export", str(model), "-o",
                              str(out / "big.json")], stderr=subprocess.PIPE, stdout=subprocess.PIPE,
-                            text=True, env=ENV)
+                            text=True, env=ENV,
+                            preexec_fn=lambda: signal.signal(sig, signal.SIG_DFL))
     _wait_for(proc, "WRITING")
     assert [p.name for p in out.iterdir()][0].startswith(".big.json.")   # the temporary file
     proc.send_signal(sig)
