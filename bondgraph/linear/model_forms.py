@@ -18,6 +18,7 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 
 import sympy
@@ -28,6 +29,7 @@ from ..signals import t as T_SYM
 from ..tf import transfer_function as tf_transfer_function
 from ..tf import transfer_matrix as tf_transfer_matrix
 from ..tf import resolve_signal
+from ..tf.errors import TermBudgetError
 from .forms import derivative_orders, linear_form, point_values, refuse_implicit, residual
 from .statespace import SymbolicStateSpace
 
@@ -120,6 +122,20 @@ def derivative_form(eqs: StateEquations):
     return A, split(B, B1), C, split(D, D1)
 
 
+@contextlib.contextmanager
+def _memory_named(eqs: StateEquations, states: int):
+    """A ``MemoryError`` while expanding a symbolic transfer function becomes a
+    :class:`~bondgraph.tf.TermBudgetError` saying what to do."""
+    try:
+        yield
+    except MemoryError:
+        raise TermBudgetError(
+            f"model {eqs.name!r}: its symbolic transfer function ({states} states, "
+            f"{len(eqs.parameters)} symbolic parameters) does not fit in memory; pass "
+            "max_terms= to refuse before expanding, give numbers for some parameters, or use "
+            "the numeric plant (compile_plant(model).plant(values))") from None
+
+
 def transfer_function(eqs: StateEquations, input=None, output=None, *,
                       descriptor: bool | None = None, **options):
     """Symbolic ``G(s)`` from one input to one output (see :meth:`bondgraph.Model.transfer_function`)."""
@@ -127,9 +143,10 @@ def transfer_function(eqs: StateEquations, input=None, output=None, *,
     s = options.pop("s", None) or sympy.Symbol("s")
     i = resolve_signal(output, eqs.output_names, "output")
     A, B, C, D, E = laplace_system(eqs, use_e, s, [i])
-    G = tf_transfer_function(A, B, C, D, E=E, input=input, output=0,
-                             input_names=eqs.input_names,
-                             output_names=(eqs.output_names[i],), s=s, **options)
+    with _memory_named(eqs, A.rows):
+        G = tf_transfer_function(A, B, C, D, E=E, input=input, output=0,
+                                 input_names=eqs.input_names,
+                                 output_names=(eqs.output_names[i],), s=s, **options)
     augmented = getattr(eqs, "augmented", None)
     fields = () if augmented is None else tuple(
         el for el in augmented.flat.elements
@@ -141,8 +158,9 @@ def transfer_matrix(eqs: StateEquations, **options):
     """All transfer functions over one denominator (see :meth:`bondgraph.Model.transfer_matrix`)."""
     s = options.pop("s", None) or sympy.Symbol("s")
     A, B, C, D, E = laplace_system(eqs, eqs.descriptor is not None, s)
-    G = tf_transfer_matrix(A, B, C, D, E=E, input_names=eqs.input_names,
-                           output_names=eqs.output_names, s=s, **options)
+    with _memory_named(eqs, A.rows):
+        G = tf_transfer_matrix(A, B, C, D, E=E, input_names=eqs.input_names,
+                               output_names=eqs.output_names, s=s, **options)
     return dataclasses.replace(G, known_parameters=eqs.known_parameters)
 
 

@@ -108,3 +108,16 @@ def test_drawing_past_its_budget_is_refused_at_once():
     with pytest.raises(bg.BondGraphError, match="801 elements to draw"):
         bg.draw(g)
 
+
+
+def test_R01_memory_exhausted_by_a_symbolic_transfer_function_says_what_to_do(monkeypatch):
+    """The 14-cell chain's symbolic G(s) ran out of memory with a raw MemoryError (7.8 GB);
+    the exhaustion itself is simulated here."""
+    from bondgraph.linear import model_forms
+    from bondgraph.tf.errors import TermBudgetError
+
+    def exhausted(*args, **kwargs):
+        raise MemoryError
+    monkeypatch.setattr(model_forms, "tf_transfer_function", exhausted)
+    with pytest.raises(TermBudgetError, match="does not fit in memory; pass max_terms="):
+        rc().transfer_function("V", "v")
