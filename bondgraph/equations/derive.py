@@ -46,7 +46,7 @@ from ..flatten import FlatGraph
 from ..graph import BondGraph
 from .implicit import ImplicitPart
 from .integrators import state_combination
-from .loops import SingularLoopError, compact_linear, solve_blocks
+from .loops import SingularLoopError, compact_linear, rate_coefficients, solve_blocks
 from .name_policy import twin_symbols
 from .record import StateEquations
 from ..elements.protocol import Element, LocalVariables
@@ -421,7 +421,8 @@ class _Deriver:
 
     def _ddt(self, expr: sympy.Expr, el: Element) -> sympy.Expr:
         """Total time derivative through states, inputs and t."""
-        terms, unknown = [], set(self.broken.values()) | self.implicit.law_symbols()
+        terms, unknown = [], self.__dict__.get("_unknown_set") or self.__dict__.setdefault(
+            "_unknown_set", set(self.broken.values()) | self.implicit.law_symbols())
         for s in expr.free_symbols:
             if s in self.xdot:
                 terms.append(sympy.diff(expr, s) * self.xdot[s])
@@ -577,9 +578,8 @@ class _Deriver:
             F = []
             zero = {xd: 0 for xd in xd_list}
             for i, r in enumerate(raw):
-                for j, xd in enumerate(xd_list):
-                    if xd in r.free_symbols:
-                        E[i, j] -= sympy.diff(r, xd)
+                for j, c in rate_coefficients(r, xd_list):
+                    E[i, j] -= c
                 F.append(r.xreplace(zero))
             descriptor = (sympy.ImmutableMatrix(E), tuple(F))
             xsol = self._solve_blocks(dict(zip(xd_of, raw)), "derivative-causality block")

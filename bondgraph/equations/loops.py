@@ -35,7 +35,7 @@ from ..errors import AlgebraicLoopError
 from .fraction_free import SINGULAR, TOO_LARGE, solve_fraction_free, to_field
 
 __all__ = ["LOOP_TERM_BUDGET", "LoopBudgetError", "SingularLoopError", "compact_linear",
-           "field_matrix", "solve_blocks"]
+           "field_matrix", "rate_coefficients", "solve_blocks"]
 
 #: Largest number of polynomial terms an exact loop solve may hold while it
 #: eliminates (the 6-section symbolic ladder needs about 1,000 and derives in 3 s;
@@ -137,6 +137,27 @@ def _block_matrix(block: list, eqs: list, model: str, what: str, keep: bool):
             M[i, j] = (1 if i == j else 0) - a
         rhs[i] = ex.xreplace(zero)
     return M, rhs, nonlinear
+
+
+def rate_coefficients(expr: sympy.Expr, rates: list) -> list[tuple[int, sympy.Expr]]:
+    """``[(j, d expr / d rates[j])]`` for the rates ``expr`` holds, read in one pass over
+    its terms when it is linear in them (a derivative per rate otherwise).
+
+    Examples
+    --------
+    >>> import sympy
+    >>> a, b, x, y = sympy.symbols("a b x y")
+    >>> rate_coefficients(a*x + b*(x + y) + 1, [x, y])
+    [(0, a + b), (1, b)]
+    """
+    held = [(j, r) for j, r in enumerate(rates) if r in expr.free_symbols]
+    if not held:
+        return []
+    try:
+        M, _ = sympy.linear_eq_to_matrix([expr], [r for _, r in held])
+        return [(j, M[0, k]) for k, (j, _) in enumerate(held) if M[0, k] != 0]
+    except (NonlinearError, ValueError):
+        return [(j, sympy.diff(expr, r)) for j, r in held]
 
 
 def solve_blocks(unknowns: dict[sympy.Symbol, sympy.Expr], *, knowns: set, what: str,
