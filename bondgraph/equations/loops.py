@@ -56,10 +56,6 @@ class SingularLoopError(AlgebraicLoopError):
     block: tuple = ()
 
 
-_SINGULAR = SINGULAR
-_TOO_LARGE = TOO_LARGE
-
-
 def field_matrix(M: sympy.Matrix) -> Optional[DomainMatrix]:
     """``M`` over the field of rational functions of its symbols (QQ), or None.
 
@@ -81,8 +77,8 @@ def _solve_linear_in_knowns(M: sympy.Matrix, rhs: sympy.Matrix, knowns: set):
     """Solve ``M z = rhs`` exactly when ``M`` holds parameters only and ``rhs`` is
     linear in the knowns: the coefficients are solved by fraction-free
     elimination (reduced fractions, no nesting), so that ``z = X k + x0`` stays
-    compact.  None when that form does not apply; ``_SINGULAR`` when ``M`` is
-    singular; ``_TOO_LARGE`` past :data:`LOOP_TERM_BUDGET`."""
+    compact.  None when that form does not apply; ``SINGULAR`` when ``M`` is
+    singular; ``TOO_LARGE`` past :data:`LOOP_TERM_BUDGET`."""
     n = M.rows
     if any(M[i, j].free_symbols & knowns for i in range(n) for j in range(n)):
         return None
@@ -237,7 +233,7 @@ def solve_blocks(unknowns: dict[sympy.Symbol, sympy.Expr], *, knowns: set, what:
             if any(x in (eq.free_symbols if hasattr(eq, "free_symbols") else ())
                    for eq in list(rhs) + list(M))))
         exact = _solve_linear_in_knowns(M, rhs, knowns)
-        if exact is _TOO_LARGE:
+        if exact is TOO_LARGE:
             if implicit is not None:    # kept as linear residuals u - expr(u) = 0
                 implicit.append((tuple(block), tuple(u - ex for u, ex in zip(block, eqs)),
                                  "linear"))
@@ -248,7 +244,7 @@ def solve_blocks(unknowns: dict[sympy.Symbol, sympy.Expr], *, knowns: set, what:
                 "terms while eliminating); give numeric values to some of its parameters, or "
                 "raise bondgraph.equations.loops.LOOP_TERM_BUDGET")
         if exact is not None:
-            if exact is _SINGULAR:
+            if exact is SINGULAR:
                 raise singular
             sol.update(zip(block, exact))
             continue
