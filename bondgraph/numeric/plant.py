@@ -63,6 +63,7 @@ import numpy as np
 import scipy.sparse as sp
 import sympy
 
+from .._support.gcpause import with_paused_gc
 from .._support.labels import control_labels
 from ..equations import StateEquations
 from ..linear import derivative_form
@@ -172,6 +173,7 @@ class NumericModel(_CompiledModel):
     (3, array([[-1000.]]))
     """
 
+    @with_paused_gc      # no cycles among the entries; full passes over a big model's heap cost
     def __init__(self, model: StateEquations, *, sparse: Optional[bool] = None) -> None:
         super().__init__(model)
         if sparse not in (None, True, False):

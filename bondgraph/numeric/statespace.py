@@ -12,6 +12,7 @@ Examples
 
 from __future__ import annotations
 
+from collections import Counter
 from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any, Mapping, Optional, Sequence, Union
@@ -163,7 +164,7 @@ class NumericStateSpace(SignalCounts):
         object.__setattr__(self, "state_shift", tuple(
             checked(M, f"state_shift[{k}]", "B") for k, M in enumerate(self.state_shift)))
         for f, value in zip(("state_names", "input_names", "output_names"), names):
-            twice = sorted({v for v in value if value.count(v) > 1})
+            twice = sorted(v for v, k in Counter(value).items() if k > 1)
             if twice:
                 raise NumericError(f"{f}: {', '.join(map(repr, twice))} named more than once; "
                                    "signal names must be distinct")

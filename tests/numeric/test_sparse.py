@@ -164,6 +164,34 @@ def test_sparse_response_and_eigenvalues_match_the_dense_plant(build):
     np.testing.assert_allclose(dense.eigenvalues(k=6, sigma=target), got, rtol=1e-8, atol=1e-10)
 
 
+@pytest.mark.parametrize("inputs, outputs", [(3, 1), (1, 3)], ids=["C^T solves", "B solves"])
+def test_sparse_mimo_response_against_numpy_dense_solves(inputs, outputs):
+    """More inputs than outputs solves with (jw I - A)^T and C^T, more outputs with B:
+    each against H = C (jw I - A)^-1 B + D by numpy's dense solver, a zero column of B
+    (an input reaching no state) and a zero row of C included."""
+    n = 60
+    rng = np.random.default_rng(7)
+    A = scipy.sparse.diags([rng.uniform(0.5, 1.5, n - 1), -rng.uniform(0.2, 2.0, n),
+                            -rng.uniform(0.5, 1.5, n - 1)], [-1, 0, 1], format="csr")
+    B = np.zeros((n, inputs))
+    B[rng.integers(0, n, size=inputs - 1), np.arange(inputs - 1)] = 1.5   # last input: no state
+    B[:, -1] = 0.0
+    if inputs == 1:
+        B[3, 0] = 1.0
+    C = np.zeros((outputs, n))
+    C[np.arange(outputs - 1 if outputs > 1 else 1), rng.integers(0, n, size=max(outputs - 1, 1))] = 0.8
+    D = rng.uniform(-1, 1, (outputs, inputs))
+    ss = NumericStateSpace(A, scipy.sparse.csr_array(B), scipy.sparse.csr_array(C), D,
+                           [f"x{i}" for i in range(n)], [f"u{j}" for j in range(inputs)],
+                           [f"y{i}" for i in range(outputs)])
+    assert ss.is_sparse
+    dense_A = A.toarray()
+    want = np.array([C @ np.linalg.solve(1j * w * np.eye(n) - dense_A, B) + D for w in OMEGA])
+    got = ss.frequency_response(OMEGA)
+    assert got.shape == (OMEGA.size, outputs, inputs)
+    np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-14)
+
+
 def test_dense_response_in_small_chunks_is_the_same(monkeypatch):
     """Chunking frequencies (here two at a time) changes memory, not the numbers:
     checked against the two-mass closed form."""
