@@ -31,10 +31,11 @@ from .errors import ParameterValueError
 __all__ = ["ParameterValues", "resolve_parameters", "resolve_batch", "parameter_name"]
 
 
-def _match(names: Sequence[str], values: Mapping, where: str,
+def _match(parameters: Sequence[sympy.Symbol], values: Mapping, where: str,
            known: Iterable[str] = ()) -> dict[str, Any]:
-    syms = [sympy.Symbol(n) for n in names]
-    return {p.name: v for p, v in match_values(syms, values, known=known, where=where).items()}
+    # matched by name: the model's own symbols serve (no Symbol built per name and call)
+    return {p.name: v for p, v in match_values(parameters, values, known=known,
+                                               where=where).items()}
 
 
 def _scalar(value: Any, name: str, where: str) -> float:
@@ -79,7 +80,7 @@ def resolve_parameters(parameters: Sequence[sympy.Symbol], values: ParameterValu
     """
     where = f"model {model!r}: " if model else ""
     names = [p.name for p in parameters]
-    given = _match(names, values, where, known)
+    given = _match(parameters, values, where, known)
     return np.array([_scalar(given[n], n, where) for n in names], dtype=float)
 
 
@@ -123,7 +124,7 @@ def resolve_batch(parameters: Sequence[sympy.Symbol],
     names = [p.name for p in parameters]
     k = len(names)
     if isinstance(values, Mapping):
-        given = _match(names, values, where, known)
+        given = _match(parameters, values, where, known)
         cols = [_column(given[n], n, where) for n in names]
         lengths = {c.shape[0] for c in cols if c.ndim == 1}
         if len(lengths) > 1:

@@ -19,6 +19,7 @@ import scipy.sparse
 
 import bondgraph as bg
 import bondgraph.numeric.plant as plant_module
+import bondgraph.numeric.sparse as sparse_module
 from bondgraph.errors import BondGraphError
 from bondgraph.export import ExportError, export_json, export_mat, export_npz, load_npz
 from bondgraph.numeric import (DenseConversionError, DenseConversionWarning, NumericError,
@@ -164,11 +165,16 @@ def test_sparse_response_and_eigenvalues_match_the_dense_plant(build):
     np.testing.assert_allclose(dense.eigenvalues(k=6, sigma=target), got, rtol=1e-8, atol=1e-10)
 
 
+@pytest.mark.parametrize("supernodes", [False, True], ids=["thin factors", "supernodes"])
 @pytest.mark.parametrize("inputs, outputs", [(3, 1), (1, 3)], ids=["C^T solves", "B solves"])
-def test_sparse_mimo_response_against_numpy_dense_solves(inputs, outputs):
+def test_sparse_mimo_response_against_numpy_dense_solves(inputs, outputs, supernodes,
+                                                         monkeypatch):
     """More inputs than outputs solves with (jw I - A)^T and C^T, more outputs with B:
     each against H = C (jw I - A)^-1 B + D by numpy's dense solver, a zero column of B
-    (an input reaching no state) and a zero row of C included."""
+    (an input reaching no state) and a zero row of C included; refactored without
+    relaxed supernodes (these thin factors) and with them (the threshold set to 0)."""
+    if supernodes:
+        monkeypatch.setattr(sparse_module, "THIN_FACTORS", 0)
     n = 60
     rng = np.random.default_rng(7)
     A = scipy.sparse.diags([rng.uniform(0.5, 1.5, n - 1), -rng.uniform(0.2, 2.0, n),
@@ -188,6 +194,7 @@ def test_sparse_mimo_response_against_numpy_dense_solves(inputs, outputs):
     dense_A = A.toarray()
     want = np.array([C @ np.linalg.solve(1j * w * np.eye(n) - dense_A, B) + D for w in OMEGA])
     got = ss.frequency_response(OMEGA)
+    assert ss._solver()._tuning == ({} if supernodes else {"relax": 1, "panel_size": 1})
     assert got.shape == (OMEGA.size, outputs, inputs)
     np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-14)
 
