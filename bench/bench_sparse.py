@@ -13,6 +13,12 @@ chain is the one of ``bench/bench_chain.py`` (imported from it).
     python bench/bench_sparse.py --lu 5000        # column orderings of the sparse LU
     python bench/bench_sparse.py --compare 1000 5000 20000   # compile: numpy classes vs lambdify
     python bench/bench_sparse.py 100000           # end to end, peak memory
+    python bench/bench_sparse.py --scale          # CPU per step, N = 1000 5000 20000 100000
+
+``--scale`` reports CPU seconds per step (build, causality + derivation +
+``state_space()``, ``compile_plant``, ``.plant``, 100-point response), the
+derivation's microseconds per bond (flat when it grows linearly), the wall
+time of the whole chain and the peak resident memory.
 
 ``--compare`` compiles the same model twice in one process, alternating,
 median of 3 (fewer at 20,000 cells): as ``compile_plant`` does (monomials
@@ -77,22 +83,28 @@ def one(n: int, sparse) -> dict:
     c0 = time.process_time()
     t0 = time.perf_counter()
     g = build(n)
-    model = bg.derive(bg.assign_causality(g), outputs={"v_last": bg.flow(f"m{n - 1}")})
+    r["build_cpu"] = time.process_time() - c0
+    aug = bg.assign_causality(g)
+    model = bg.derive(aug, outputs={"v_last": bg.flow(f"m{n - 1}")})
     model.state_space()
     t1 = time.perf_counter()
-    r["derive"], r["rss_derive"] = t1 - t0, _rss_mb()
     c1 = time.process_time()
+    r["derive"], r["rss_derive"] = t1 - t0, _rss_mb()
+    r["derive_cpu"], r["bonds"] = c1 - c0 - r["build_cpu"], len(aug.flat.bonds)
     nm = bg.compile_plant(model, sparse=sparse)
     t2 = time.perf_counter()
-    r["compile_cpu"] = time.process_time() - c1
+    c2 = time.process_time()
+    r["compile_cpu"] = c2 - c1
     r["compile"], r["rss_compile"] = t2 - t1, _rss_mb()
     ss = nm.plant(_values(nm))
     t3 = time.perf_counter()
-    r["plant"], r["rss_plant"] = t3 - t2, _rss_mb()
+    c3 = time.process_time()
+    r["plant"], r["rss_plant"], r["plant_cpu"] = t3 - t2, _rss_mb(), c3 - c2
     H = ss.frequency_response(np.logspace(-3, 1, 100))
     t4 = time.perf_counter()
     r["response"], r["rss_response"] = t4 - t3, _rss_mb()
     r["cpu_total"] = time.process_time() - c0
+    r["response_cpu"] = r["cpu_total"] - (c3 - c0)
     r["states"], r["sparse"] = ss.nstates, ss.is_sparse
     r["nnz_A"] = int(ss.A.nnz) if ss.is_sparse else int(np.count_nonzero(ss.A))
     assert H.shape == (100, 1, 1) and np.isfinite(H).all()
@@ -208,6 +220,24 @@ def _run(args: list[str]) -> dict:
     return json.loads(out.strip().splitlines()[-1])
 
 
+def scale(sizes: list[int]) -> None:
+    """CPU seconds of each step, end to end, each size in a fresh process; "us/bond" is
+    causality + derivation + ``state_space()`` per bond (flat when linear)."""
+    load = os.getloadavg()
+    print(f"load average {load[0]:.1f} {load[1]:.1f} {load[2]:.1f} at the start")
+    print(f"{'N':>7} {'bonds':>7} {'build':>7} {'derive':>8} {'us/bond':>8} {'compile':>8} "
+          f"{'plant':>7} {'FRF100':>7} {'total CPU s':>11} {'wall s':>8} {'peak MB':>8}")
+    for n in sizes:
+        r = _run(["--one", str(n), "auto"])
+        wall = r["derive"] + r["compile"] + r["plant"] + r["response"]
+        print(f"{n:>7} {r['bonds']:>7} {r['build_cpu']:>7.2f} {r['derive_cpu']:>8.2f} "
+              f"{1e6 * r['derive_cpu'] / r['bonds']:>8.1f} {r['compile_cpu']:>8.2f} "
+              f"{r['plant_cpu']:>7.2f} {r['response_cpu']:>7.2f} {r['cpu_total']:>11.2f} "
+              f"{wall:>8.2f} {r['rss_response']:>8.0f}")
+    load = os.getloadavg()
+    print(f"load average {load[0]:.1f} {load[1]:.1f} {load[2]:.1f} at the end")
+
+
 def main(argv: list[str]) -> None:
     if argv and argv[0] == "--one":
         sparse = {"auto": None, "dense": False, "sparse": True}[argv[2]]
@@ -251,6 +281,9 @@ def main(argv: list[str]) -> None:
                   f"{r['compile_plant_with_symengine']:>12.3f} "
                   f"{r['compile_plant'] / r['compile_plant_with_symengine']:>8.2f}x "
                   f"{r['max_rel_diff']:>13.1e}")
+        return
+    if argv and argv[0] == "--scale":
+        scale([int(a) for a in argv[1:]] or [1000, 5000, 20000, 100000])
         return
     mode = "auto"
     if argv and argv[0] in ("--dense", "--sparse"):

@@ -90,6 +90,16 @@ def _calls(ex: sympy.Basic, clean: set) -> list[sympy.Basic]:
     One walk for both kinds, and each shared subexpression (``1/m`` in every
     row of a chain) once per model: a third of the time of two ``atoms``
     calls per expression on a 20,000-cell chain.
+
+    Examples
+    --------
+    >>> x = sympy.Symbol("x")
+    >>> g = sympy.Function("g")
+    >>> clean: set = set()
+    >>> _calls(g(x) / (x + 1) + sympy.Derivative(g(x), x), clean)
+    [Derivative(g(x), x), g(x)]
+    >>> _calls(1 / (x + 1), clean)         # x + 1 was walked: nothing new
+    []
     """
     found = []
     stack = [ex]
