@@ -162,6 +162,20 @@ def bond_graph_chain(cells: int = 10):
     return ss.A, ss.B, ss.C, ss.D
 
 
+def flexcam(modes: int = 3, formulation: str = "paper"):
+    """FLEXCAM's tip deflection ``y / hub.e_in`` (``models/flexcam.py``, fully symbolic)."""
+    import bondgraph as bg
+
+    sys.path.insert(0, str(ROOT / "models"))
+    import flexcam as fc
+
+    g, outputs, _ = fc.build(modes, formulation=formulation)
+    model = bg.derive(g, outputs=outputs)
+    ss = model.state_space()
+    i, j = ss.output_names.index("y"), ss.input_names.index("hub.e_in")
+    return ss.A, ss.B[:, j], ss.C[i, :], ss.D[i:i + 1, j:j + 1]
+
+
 CHAINS = ("chain5", "chain7", "chain8", "chain9", "chain10", "bgchain10")
 MODELS = {"dc_motor": dc_motor, "hub_beam": hub_beam, "hub_beam_E": hub_beam_descriptor,
           "chain7": chain, "bgchain10": bond_graph_chain,
@@ -169,6 +183,9 @@ MODELS = {"dc_motor": dc_motor, "hub_beam": hub_beam, "hub_beam_E": hub_beam_des
 
 
 def _model(name: str):
+    for prefix, form in (("flexcam_sys", "system"), ("flexcam", "paper")):
+        if name.startswith(prefix) and name[len(prefix):].isdigit():
+            return flexcam(int(name[len(prefix):]), form)
     if name.startswith("hub_beam") and name[len("hub_beam"):].isdigit():
         return hub_beam(int(name[len("hub_beam"):]))
     return MODELS[name]()
