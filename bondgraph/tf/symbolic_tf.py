@@ -97,6 +97,7 @@ class SymbolicTF:
         num, den = source.polys()
         object.__setattr__(self, "num", num)
         object.__setattr__(self, "den", den)
+        object.__setattr__(self, "_source", None)     # the arrays are not needed any more
         return num if name == "num" else den
 
     def __reduce__(self):
