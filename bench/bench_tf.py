@@ -30,8 +30,7 @@ denominator coefficients (a fraction's numerator and denominator both count).
 ``--modes`` runs the fully symbolic hub + modal beam (``hub_beam(n)``: 2 + 2n
 states, 5 + 5n symbols, an answer 3.2x larger per mode) from the first to the
 last number of modes, each in a fresh process, with the default term budget
-(``max_terms``): the rows give the time, the peak memory, the answer's terms
-and the time per term, or the refusal and the estimated bound.
+(``max_terms``), in the columns of ``--flexcam``.
 
 ``--flexcam FIRST LAST`` runs issue 28's FLEXCAM series: the tip deflection
 ``y / hub.e_in`` of ``models/flexcam.py`` (paper formulation; ``--system`` for
@@ -300,7 +299,7 @@ def main(argv=None) -> int:
     if args.flexcam:
         return _series("flexcam_sys" if args.system else "flexcam", *args.flexcam)
     if args.modes:
-        return _modes(*args.modes)
+        return _series("hub_beam", *args.modes)
     if args.one:
         print(json.dumps(run_one(args.one, args.method, args.normalize)))
         return 0
@@ -319,23 +318,6 @@ def main(argv=None) -> int:
         configs.append((model, "auto", {"BONDGRAPH_TF_BACKEND": "sympy",
                                         "SYMPY_GROUND_TYPES": "flint"}))
     return _print([c + ("monic",) for c in configs] + chains, args.json)
-
-
-def _modes(first: int, last: int) -> int:
-    print(f"{'modes':>5} {'states':>6} {'symbols':>7} {'seconds':>8} {'peak MB':>8} "
-          f"{'num terms':>9} {'den terms':>9} {'us/term':>8}")
-    for n in range(first, last + 1):
-        r = spawn(f"hub_beam{n}", "auto", {"SYMPY_GROUND_TYPES": "flint"})
-        if "num_terms" not in r:
-            print(f"{n:>5} {r.get('states', ''):>6} {r.get('symbols', ''):>7} "
-                  f"{r['seconds']:>8.3f} {r.get('peak_mb', float('nan')):>8.0f}  "
-                  f"{r.get('note', '')}", flush=True)
-            continue
-        terms = r["num_terms"] + r["den_terms"]
-        print(f"{n:>5} {r['states']:>6} {r['symbols']:>7} {r['seconds']:>8.3f} "
-              f"{r['peak_mb']:>8.0f} {r['num_terms']:>9} {r['den_terms']:>9} "
-              f"{1e6 * r['seconds'] / terms:>8.1f}", flush=True)
-    return 0
 
 
 def _series(prefix: str, first: int, last: int) -> int:

@@ -105,11 +105,10 @@ class Deferred:
         for p in (self.num, self.den):
             if not len(p) or not self.conv.k:
                 continue
-            e = p.exps[:, 1:].astype(np.int64)
             for d in np.unique(p.exps[:, 0]).tolist():
-                rows = e[p.exps[:, 0] == d]
+                rows = p.exps[p.exps[:, 0] == d, 1:]
                 g = np.minimum(rows.min(axis=0), pe)
-                hit |= (rows - g).any(axis=0) | (pe - g != 0)
+                hit |= (rows != g).any(axis=0) | (pe != g)
         return {x for x, h in zip(self.params, hit.tolist()) if h}
 
     def values(self, point: Sequence[Fraction]) -> tuple[list[Fraction], list[Fraction]] | None:
@@ -136,31 +135,41 @@ class Deferred:
         return out[0], out[1]
 
 
+#: terms evaluated at once (bounds the memory of the big-integer products)
+CHUNK = 1 << 16
+
+
 def _coefficient_values(p: Terms, point: Sequence[Fraction]) -> dict[int, Fraction]:
     """``{d: P_d(point)}`` for ``p = sum_d s**d P_d``, exactly.
 
     Each value ``a_i/b_i`` enters as integers: a term is ``c * prod a_i**e_i *
     b_i**(E_i - e_i)`` over the common denominator ``prod b_i**E_i``
     (``E_i`` the largest exponent of parameter ``i``), the products taken a
-    column at a time on object arrays.
+    column at a time on object arrays, :data:`CHUNK` terms at a time.
     """
     e = p.exps
-    prod = np.empty(len(p), dtype=object)
-    prod[:] = p.coeffs
+    tables = []
     denom = 1
     for i, v in enumerate(point):
-        col = e[:, 1 + i]
-        top = int(col.max())
+        top = int(e[:, 1 + i].max())
         if not top:
             continue
         v = Fraction(v)
         a, b = v.numerator, v.denominator
         table = np.empty(top + 1, dtype=object)
         table[:] = [a ** j * b ** (top - j) for j in range(top + 1)]
-        prod *= table[col]
+        tables.append((1 + i, table))
         denom *= b ** top
-    e0 = e[:, 0]
-    order = np.argsort(e0, kind="stable")
-    powers, starts = np.unique(e0[order], return_index=True)
-    sums = np.add.reduceat(prod[order], starts)
-    return {int(d): Fraction(x) / denom for d, x in zip(powers.tolist(), sums.tolist())}
+    sums: dict[int, Any] = {}
+    for lo in range(0, len(p), CHUNK):
+        rows = e[lo:lo + CHUNK]
+        prod = np.empty(len(rows), dtype=object)
+        prod[:] = p.coeffs[lo:lo + CHUNK]
+        for col, table in tables:
+            prod *= table[rows[:, col]]
+        e0 = rows[:, 0]
+        order = np.argsort(e0, kind="stable")
+        powers, starts = np.unique(e0[order], return_index=True)
+        for d, x in zip(powers.tolist(), np.add.reduceat(prod[order], starts).tolist()):
+            sums[d] = sums.get(d, 0) + x
+    return {int(d): Fraction(x) / denom for d, x in sums.items()}

@@ -127,11 +127,13 @@ def lifted(M: Sequence[Sequence[Any]], ring: Ring,
     divisors: list[Any] = []
     if method != "auto":
         return M, divisors
-    cost = laplace_cost(M, ring, laplace_limit(len(M)))
-    for _ in range(MAX_LIFTS):
+    cost: int | None = None
+    for step in range(MAX_LIFTS):
         found = rank_one_lift(M, ring)
         if found is None:
             break
+        if not step:        # planned only when there is something to lift
+            cost = laplace_cost(M, ring, laplace_limit(len(M)))
         L, d = found
         new = laplace_cost(L, ring, laplace_limit(len(L)) if cost is None else cost - 1)
         if new is None:

@@ -134,14 +134,19 @@ class _Packing:
 
     def unpack(self, p) -> Terms:
         monoms = p.monoms()
+        count = len(monoms)
         ngroups = self.ring.nvars
-        cols = [np.array([int(m[gi]) for m in monoms], dtype=np.uint64)
+        cols = [np.fromiter((m[gi] for m in monoms), dtype=np.uint64, count=count)
                 for gi in range(ngroups)]
-        # small integers: the arrays are copied and sliced, and their size is the memory
-        dtype = np.int16 if max(self.bits) <= 12 else np.int64
-        exps = np.empty((len(monoms), len(self.bits)), dtype=dtype)
+        del monoms          # the largest transient: a tuple of ints per term
+        # small integers: the arrays are copied and sliced, and their size is the memory;
+        # int8 while a cleared exponent (at most twice a field's largest value) fits
+        top = max(self.bits, default=0)
+        dtype = np.int8 if top <= 6 else np.int16 if top <= 12 else np.int64
+        exps = np.empty((count, len(self.bits)), dtype=dtype)
         for v, (gi, off, b) in enumerate(zip(self.group, self.offset, self.bits)):
             exps[:, v] = (cols[gi] >> np.uint64(off)) & np.uint64((1 << b) - 1) if b else 0
+        del cols
         coeffs = [int(c.p) if c.q == 1 else Fraction(int(c.p), int(c.q)) for c in p.coeffs()]
         return Terms(exps, coeffs)
 
