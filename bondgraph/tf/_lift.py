@@ -29,19 +29,20 @@ A diagonal plus the rank-one block ``[[a*a, a*b], [b*a, b*b]]`` of three rows:
 >>> s, a, b, c = (R.gen(i) for i in range(4))
 >>> v = [a, b, c]
 >>> M = [[(s if i == j else R.zero) + v[i] * v[j] for j in range(3)] for i in range(3)]
->>> L, d = rank_one_lift(M, R)
+>>> L, d, *_ = rank_one_lift(M, R)
 >>> len(L), R.exquo(determinant(L, R), d) == determinant(M, R, method="bareiss")
 (4, True)
 """
 
 from __future__ import annotations
 
-from typing import Any, Sequence
+from typing import Any, NamedTuple, Sequence
 
 from ._determinants import determinant, laplace_cost, laplace_limit
 from ._rings import Ring
 
-__all__ = ["rank_one_lift", "lifted", "lifted_determinant", "MIN_BLOCK"]
+__all__ = ["Lift", "rank_one_lift", "lift_steps", "lifted", "lifted_counts",
+           "lifted_determinant", "MIN_BLOCK"]
 
 #: smallest side of a rank-one block worth lifting
 MIN_BLOCK = 3
@@ -63,10 +64,23 @@ def _find(parent: list[int], x: int) -> int:
     return x
 
 
-def rank_one_lift(M: Sequence[Sequence[Any]], ring: Ring) -> tuple[list[list[Any]], Any] | None:
-    """``(L, d)`` with ``det L = d * det M`` and ``M``'s largest rank-one block
-    (of ``s``-free parts) moved into one more row and column; ``None`` when
-    there is no such block of at least :data:`MIN_BLOCK` rows and columns.
+class Lift(NamedTuple):
+    """One rank-one block ``f`` of ``M`` (rows ``rows``, columns ``cols``) lifted:
+    ``det(matrix) = divisor * det M``."""
+
+    matrix: list[list[Any]]
+    divisor: Any
+    rows: tuple[int, ...]
+    cols: tuple[int, ...]
+    #: per row of the block, the most terms of an entry ``f_ij``
+    row_terms: tuple[int, ...]
+
+
+def rank_one_lift(M: Sequence[Sequence[Any]], ring: Ring) -> Lift | None:
+    """:class:`Lift` ``(L, d, ...)`` with ``det L = d * det M`` and ``M``'s largest
+    rank-one block (of ``s``-free parts) moved into one more row and column;
+    ``None`` when there is no such block of at least :data:`MIN_BLOCK` rows and
+    columns.
 
     Variable 0 of ``ring`` is ``s``.  See the module docstring.
     """
@@ -104,7 +118,8 @@ def rank_one_lift(M: Sequence[Sequence[Any]], ring: Ring) -> tuple[list[list[Any
         row.append(f[i][j0] if i in rset else ring.zero)
         L.append(row)
     L.append([-f[i0][j] if j in cset else ring.zero for j in range(n)] + [d])
-    return L, d
+    return Lift(L, d, tuple(rows), tuple(cols),
+                tuple(max(ring.nterms(f[i][j]) for j in cols) for i in rows))
 
 
 def lifted(M: Sequence[Sequence[Any]], ring: Ring,
@@ -124,23 +139,65 @@ def lifted(M: Sequence[Sequence[Any]], ring: Ring,
     >>> lifted([[s, a], [a, s]], R)[1]          # no block of three
     []
     """
-    divisors: list[Any] = []
     if method != "auto":
-        return M, divisors
+        return M, []
+    steps = lift_steps(M, ring)
+    return (steps[-1].matrix if steps else M), [x.divisor for x in steps]
+
+
+def lift_steps(M: Sequence[Sequence[Any]], ring: Ring) -> list[Lift]:
+    """The lifts :func:`lifted` takes, in order: each while it makes the Laplace
+    expansion cheaper (or possible where ``auto`` would fall back to Bareiss)."""
+    steps: list[Lift] = []
     cost: int | None = None
-    for step in range(MAX_LIFTS):
+    for _ in range(MAX_LIFTS):
         found = rank_one_lift(M, ring)
         if found is None:
             break
-        if not step:        # planned only when there is something to lift
+        if not steps:        # planned only when there is something to lift
             cost = laplace_cost(M, ring, laplace_limit(len(M)))
-        L, d = found
-        new = laplace_cost(L, ring, laplace_limit(len(L)) if cost is None else cost - 1)
+        new = laplace_cost(found.matrix, ring,
+                           laplace_limit(len(found.matrix)) if cost is None else cost - 1)
         if new is None:
             break
-        M, cost = L, new
-        divisors.append(d)
-    return M, divisors
+        M, cost = found.matrix, new
+        steps.append(found)
+    return steps
+
+
+def lifted_counts(M: Sequence[Sequence[Any]], ring: Ring) -> list[list[int]]:
+    """Term counts whose permanent bounds the terms of ``det M`` through its lifts.
+
+    A rank-one block ``f`` adds to ``det S`` (``S = M - f``) only first-order
+    terms: ``det M = det S + sum_ij f_ij C_ij(S)`` with ``C_ij`` the cofactors of
+    ``S``.  So ``terms(det M) <= perm(|S|) + sum_ij |f_ij| perm(|S_ij|)``, the
+    permanent of ``|S|`` bordered by the column ``max_j |f_ij|`` (the block's
+    rows), the row of ones (its columns) and a corner 1, where ``|x|`` counts
+    terms.  Without a lift: the counts of ``M``.
+
+    Examples
+    --------
+    >>> from bondgraph.tf._rings import make_ring
+    >>> R = make_ring(3)
+    >>> s, a, b = (R.gen(i) for i in range(3))
+    >>> M = [[s + (a + b) * a if i == j else (a + b) * a for j in range(3)] for i in range(3)]
+    >>> lifted_counts(M, R)[-1], [row[-1] for row in lifted_counts(M, R)]
+    ([1, 1, 1, 1], [2, 2, 2, 1])
+    """
+    counts = [[0 if ring.is_zero(p) else ring.nterms(p) for p in row] for row in M]
+    for step in lift_steps(M, ring):
+        n = len(counts)
+        L = step.matrix
+        block = set(step.rows), set(step.cols)
+        counts = [[(0 if ring.is_zero(L[i][j]) else ring.nterms(L[i][j]))
+                   if i in block[0] and j in block[1] else counts[i][j] for j in range(n)]
+                  for i in range(n)]
+        for i, top in zip(step.rows, step.row_terms):
+            counts[i].append(top)
+        for i in set(range(n)) - block[0]:
+            counts[i].append(0)
+        counts.append([1 if j in block[1] else 0 for j in range(n)] + [1])
+    return counts
 
 
 def lifted_determinant(M: Sequence[Sequence[Any]], ring: Ring, *, method: str = "auto"):

@@ -149,7 +149,7 @@ def test_lifted_determinant_matches_berkowitz_at_random_points(seed):
     symbols = sp.symbols(f"x0:{nvars}")
     found = rank_one_lift(M, R)
     assert found is not None
-    L, d = found
+    L, d = found.matrix, found.divisor
     by_lift = R.exquo(determinant(L, R), d)
     det = lifted_determinant(M, R)
     Ms = sp.Matrix([[R.to_sympy(p, symbols) for p in row] for row in M])
@@ -204,3 +204,36 @@ def test_flexcam_paper_form_matches_bareiss():
     G = transfer_function(*args)
     ref = transfer_function(*args, method="bareiss")
     assert (G.num, G.den) == (ref.num, ref.den)
+
+
+@pytest.mark.parametrize("n", [3, 5, 8])
+def test_term_bound_of_the_modal_star_is_its_exact_size(n):
+    # before clearing 1/m_i (a variable r_i each): prod_i (s**2 + k_i r_i) has 2**n terms
+    # and c s sum_i a_i**2 r_i prod_{j != i} (s**2 + k_j r_j) n 2**(n-1), all distinct
+    # monomials (by hand); the bound through the lift (the coupled block holds one term
+    # per entry, the blocks [[s, k_i], [-r_i, s]] two per permanent) is exactly that
+    from bondgraph.tf._budget import term_bound
+
+    A, B, C, _ = modal_star(n)
+    enc = encode_system(A, B, C, sp.zeros(1, 1), None, s)
+    want = 2 ** n + n * 2 ** (n - 1)
+    assert term_bound(enc.pencil(), enc.ring) == want
+    assert enc.ring.nterms(lifted_determinant(enc.pencil(), enc.ring)) == want
+
+
+def test_budget_refuses_the_flexcam_series_close_to_its_answer():
+    # 12 modes: 53,248 + 24,576 terms before clearing; the bound says 102,400, so a
+    # budget of 100,000 refuses before expanding and one of 110,000 lets it through
+    import sys
+    from pathlib import Path
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "bench"))
+    import bench_tf
+
+    from bondgraph.tf.errors import TermBudgetError
+
+    args = bench_tf.flexcam(12)
+    with pytest.raises(TermBudgetError, match="102,400 terms"):
+        transfer_function(*args, max_terms=100_000)
+    G = transfer_function(*args, max_terms=110_000)
+    assert G.order == 24
