@@ -114,3 +114,17 @@ def test_parameter_cancelled_away_needs_no_value():
     assert (N.num, N.den) == ((1.0,), (1.0, 2.0))
     assert G.subs({"a": 2, "J": 5}).den == (1.0, 2.0)
     assert eager_twin(G).subs({"a": 2}).den == (1.0, 2.0)
+
+
+def test_transfer_matrix_entries_stay_deferred():
+    # RC low-pass, v_C / V = 1/(R C s + 1) (by hand), from a transfer matrix
+    from bondgraph.tf import transfer_matrix
+
+    R, C = sp.symbols("R C", positive=True)
+    T = transfer_matrix([[-1 / (R * C)]], [[1 / (R * C)]], [[1]], None,
+                        input_names=["V"], output_names=["v"])
+    G = T["v", "V"]
+    assert "num" not in G.__dict__
+    N = G.subs({"R": 2, "C": 0.25})
+    assert (N.num, N.den) == ((2.0,), (1.0, 2.0))
+    assert sp.simplify(G.expr - 1 / (R * C * s + 1)) == 0
