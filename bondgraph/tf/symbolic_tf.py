@@ -27,6 +27,7 @@ from ..parameters import exact_value, match_values
 from .._support.sympify import as_expr
 from . import _algebra as alg
 from ._checks import Normalize, _check_options
+from .._support.gcpause import paused_gc
 from ._convert import _Converter
 from ._deferred import Deferred
 from ._packed import Terms
@@ -94,7 +95,8 @@ class SymbolicTF:
         source = self.__dict__.get("_source") if name in ("num", "den") else None
         if source is None:
             raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
-        num, den = source.polys()
+        with paused_gc():       # as the eager path: millions of objects, no cycles
+            num, den = source.polys()
         object.__setattr__(self, "num", num)
         object.__setattr__(self, "den", den)
         object.__setattr__(self, "_source", None)     # the arrays are not needed any more
