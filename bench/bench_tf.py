@@ -24,13 +24,26 @@ denominator coefficients (a fraction's numerator and denominator both count).
     python bench/bench_tf.py --chains    # only the chain sizes (10 .. 20 states)
     python bench/bench_tf.py --slow      # also Berkowitz on the 14-state chain
     python bench/bench_tf.py --json      # machine-readable rows
-    python bench/bench_tf.py --modes 3 14   # the FLEXCAM series: hub_beam with 3 .. 14 modes
+    python bench/bench_tf.py --modes 3 9    # hub_beam with 3 .. 9 modes
+    python bench/bench_tf.py --flexcam 3 14 # FLEXCAM's tip deflection, 3 .. 14 modes
 
-``--modes`` runs the fully symbolic hub + modal beam (FLEXCAM's paper form,
-``hub_beam(n)``: 2 + 2n states, 5 + 5n symbols) from the first to the last
-number of modes, each in a fresh process, with the default term budget
-(``max_terms``): the rows give the time, the peak memory, the answer's terms
-and the time per term, or the refusal and the estimated bound.
+``--modes`` runs the fully symbolic hub + modal beam (``hub_beam(n)``: 2 + 2n
+states, 5 + 5n symbols, an answer 3.2x larger per mode) from the first to the
+last number of modes, each in a fresh process, with the default term budget
+(``max_terms``), in the columns of ``--flexcam``.
+
+``--flexcam FIRST LAST`` runs issue 28's FLEXCAM series: the tip deflection
+``y / hub.e_in`` of ``models/flexcam.py`` (paper formulation; ``--system`` for
+the system formulation), derived by the engine and fully symbolic (2n states,
+7 + 4n symbols at n modes), each number of modes in a fresh process.  The
+``transfer_function`` call returns without sympy objects; the rows give its CPU
+and wall seconds and the process's peak memory before and after it, then the
+CPU seconds and peak memory once the sympy Polys are built (first access of
+``num``/``den``), the answer's terms and the CPU microseconds per answer term.
+``--chains`` and the default table report the same columns (``seconds`` is the
+call's wall time; ``peak MB`` includes the sympy Polys).
+
+    python bench/bench_tf.py --flexcam 3 14
 """
 
 from __future__ import annotations
@@ -162,6 +175,20 @@ def bond_graph_chain(cells: int = 10):
     return ss.A, ss.B, ss.C, ss.D
 
 
+def flexcam(modes: int = 3, formulation: str = "paper"):
+    """FLEXCAM's tip deflection ``y / hub.e_in`` (``models/flexcam.py``, fully symbolic)."""
+    import bondgraph as bg
+
+    sys.path.insert(0, str(ROOT / "models"))
+    import flexcam as fc
+
+    g, outputs, _ = fc.build(modes, formulation=formulation)
+    model = bg.derive(g, outputs=outputs)
+    ss = model.state_space()
+    i, j = ss.output_names.index("y"), ss.input_names.index("hub.e_in")
+    return ss.A, ss.B[:, j], ss.C[i, :], ss.D[i:i + 1, j:j + 1]
+
+
 CHAINS = ("chain5", "chain7", "chain8", "chain9", "chain10", "bgchain10")
 MODELS = {"dc_motor": dc_motor, "hub_beam": hub_beam, "hub_beam_E": hub_beam_descriptor,
           "chain7": chain, "bgchain10": bond_graph_chain,
@@ -169,6 +196,9 @@ MODELS = {"dc_motor": dc_motor, "hub_beam": hub_beam, "hub_beam_E": hub_beam_des
 
 
 def _model(name: str):
+    for prefix, form in (("flexcam_sys", "system"), ("flexcam", "paper")):
+        if name.startswith(prefix) and name[len(prefix):].isdigit():
+            return flexcam(int(name[len(prefix):]), form)
     if name.startswith("hub_beam") and name[len("hub_beam"):].isdigit():
         return hub_beam(int(name[len("hub_beam"):]))
     return MODELS[name]()
@@ -206,20 +236,29 @@ def run_one(model: str, method: str, normalize: str) -> dict:
 
     from bondgraph.tf.errors import TermBudgetError
 
-    t1 = time.perf_counter()
+    def peak_mb() -> float:
+        return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+
+    base_mb = peak_mb()
+    t1, c1 = time.perf_counter(), time.process_time()
     try:
         G = transfer_function(A, B, C, D, E=E, method=method, normalize=normalize)
     except TermBudgetError as exc:
         return {"model": model, "states": A.shape[0], "symbols": len(syms), "method": method,
-                "seconds": time.perf_counter() - t1, "note": "refused: " + str(exc)[:160],
-                "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}
-    seconds = time.perf_counter() - t1
-    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+                "seconds": time.perf_counter() - t1, "cpu": time.process_time() - c1,
+                "note": "refused: " + str(exc)[:160], "peak_mb": peak_mb()}
+    seconds, cpu = time.perf_counter() - t1, time.process_time() - c1
+    tf_mb = peak_mb()
+    # the sympy Polys, built on first access (what printing or coefficients ask for)
+    t2, c2 = time.perf_counter(), time.process_time()
+    num, den = G.num, G.den
+    sympy_seconds, sympy_cpu = time.perf_counter() - t2, time.process_time() - c2
     return {"model": model, "states": A.shape[0], "symbols": len(syms), "method": method,
             "backend": "sympy-DomainMatrix" if method == "berkowitz" else backend_name(),
             "ground_types": GROUND_TYPES, "normalize": normalize, "seconds": seconds,
-            "import_seconds": t_import, "order": G.order, "peak_mb": peak,
-            "num_terms": answer_terms(G.num), "den_terms": answer_terms(G.den)}
+            "cpu": cpu, "sympy_seconds": sympy_seconds, "sympy_cpu": sympy_cpu,
+            "import_seconds": t_import, "order": G.order, "base_mb": base_mb, "tf_mb": tf_mb,
+            "peak_mb": peak_mb(), "num_terms": answer_terms(num), "den_terms": answer_terms(den)}
 
 
 def spawn(model: str, method: str, env_extra: dict, normalize: str = "monic",
@@ -250,10 +289,17 @@ def main(argv=None) -> int:
     ap.add_argument("--chains", action="store_true",
                     help="only the chains of 10 .. 20 states (both normalizations)")
     ap.add_argument("--modes", nargs=2, type=int, metavar=("FIRST", "LAST"),
-                    help="the FLEXCAM series: hub_beam with FIRST .. LAST modes")
+                    help="hub_beam (5 symbols a mode) with FIRST .. LAST modes")
+    ap.add_argument("--flexcam", nargs=2, type=int, metavar=("FIRST", "LAST"),
+                    help="FLEXCAM's tip deflection (models/flexcam.py, paper form, fully "
+                         "symbolic) with FIRST .. LAST modes")
+    ap.add_argument("--system", action="store_true",
+                    help="with --flexcam: the system formulation instead of the paper's")
     args = ap.parse_args(argv)
+    if args.flexcam:
+        return _series("flexcam_sys" if args.system else "flexcam", *args.flexcam)
     if args.modes:
-        return _modes(*args.modes)
+        return _series("hub_beam", *args.modes)
     if args.one:
         print(json.dumps(run_one(args.one, args.method, args.normalize)))
         return 0
@@ -274,20 +320,29 @@ def main(argv=None) -> int:
     return _print([c + ("monic",) for c in configs] + chains, args.json)
 
 
-def _modes(first: int, last: int) -> int:
-    print(f"{'modes':>5} {'states':>6} {'symbols':>7} {'seconds':>8} {'peak MB':>8} "
-          f"{'num terms':>9} {'den terms':>9} {'us/term':>8}")
+def _series(prefix: str, first: int, last: int) -> int:
+    """One row per number of modes, each in a fresh process: the ``transfer_function``
+    call (CPU and wall seconds, peak resident MB of the process), then the sympy Polys
+    built on first access (CPU seconds, peak MB), the answer's terms and the CPU time
+    per answer term of the call and of call plus sympy."""
+    print(f"load average {' '.join(f'{x:.2f}' for x in os.getloadavg())}; "
+          f"'base' is the process before the call (imports, model, derivation)")
+    print(f"{'modes':>5} {'states':>6} {'symbols':>7} {'tf cpu s':>8} {'tf wall':>7} "
+          f"{'base MB':>7} {'tf MB':>6} {'sympy s':>7} {'peak MB':>7} {'num terms':>9} "
+          f"{'den terms':>9} {'us/term':>7} {'+sympy':>7}")
     for n in range(first, last + 1):
-        r = spawn(f"hub_beam{n}", "auto", {"SYMPY_GROUND_TYPES": "flint"})
+        r = spawn(f"{prefix}{n}", "auto", {"SYMPY_GROUND_TYPES": "flint"}, timeout=1800)
         if "num_terms" not in r:
             print(f"{n:>5} {r.get('states', ''):>6} {r.get('symbols', ''):>7} "
-                  f"{r['seconds']:>8.3f} {r.get('peak_mb', float('nan')):>8.0f}  "
+                  f"{r.get('cpu', float('nan')):>8.3f} {r['seconds']:>7.3f}  "
                   f"{r.get('note', '')}", flush=True)
             continue
         terms = r["num_terms"] + r["den_terms"]
-        print(f"{n:>5} {r['states']:>6} {r['symbols']:>7} {r['seconds']:>8.3f} "
-              f"{r['peak_mb']:>8.0f} {r['num_terms']:>9} {r['den_terms']:>9} "
-              f"{1e6 * r['seconds'] / terms:>8.1f}", flush=True)
+        print(f"{n:>5} {r['states']:>6} {r['symbols']:>7} {r['cpu']:>8.3f} "
+              f"{r['seconds']:>7.3f} {r['base_mb']:>7.0f} {r['tf_mb']:>6.0f} "
+              f"{r['sympy_cpu']:>7.3f} {r['peak_mb']:>7.0f} {r['num_terms']:>9} "
+              f"{r['den_terms']:>9} {1e6 * r['cpu'] / terms:>7.1f} "
+              f"{1e6 * (r['cpu'] + r['sympy_cpu']) / terms:>7.1f}", flush=True)
     return 0
 
 
@@ -298,8 +353,8 @@ def _print(configs, as_json: bool) -> int:
             print(json.dumps(r))
         return 0
     head = f"{'model':<10} {'states':>6} {'symbols':>7}  {'method':<10} {'ring arithmetic':<19} " \
-           f"{'ground':<7} {'normalize':<10} {'seconds':>8} {'peak MB':>8} {'num terms':>9} " \
-           f"{'den terms':>9}  {'import s':>8}"
+           f"{'ground':<7} {'normalize':<10} {'seconds':>8} {'sympy s':>8} {'tf MB':>6} " \
+           f"{'peak MB':>8} {'num terms':>9} {'den terms':>9}  {'import s':>8}"
     print(head)
     print("-" * len(head))
     for r in rows:
@@ -307,6 +362,7 @@ def _print(configs, as_json: bool) -> int:
               f"{r['method']:<10} {r.get('backend', r.get('BONDGRAPH_TF_BACKEND', '')):<19} "
               f"{r.get('ground_types', r.get('SYMPY_GROUND_TYPES', '')):<7} "
               f"{r.get('normalize', ''):<10} {r['seconds']:>8.3f} "
+              f"{r.get('sympy_seconds', float('nan')):>8.3f} {r.get('tf_mb', float('nan')):>6.0f} "
               f"{r.get('peak_mb', float('nan')):>8.0f} {r.get('num_terms', ''):>9} "
               f"{r.get('den_terms', ''):>9}  {r.get('import_seconds', float('nan')):>8.2f}"
               + (f"  {r['note']}" if "note" in r else ""))

@@ -1,8 +1,10 @@
 """Exact symbolic transfer functions before and after a change: fingerprints to compare.
 
 For the models of ``bench/bench_tf.py`` (DC motor, the modal hub beam with 1 to
-8 modes, the descriptor hub beam, the mass chains of 3 to 7 masses and the
-bond-graph chains of 3 to 8 cells), every normalization (``monic``,
+8 modes, the descriptor hub beam, the mass chains of 3 to 7 masses, the
+bond-graph chains of 3 to 8 cells, and FLEXCAM's tip deflection from
+``models/flexcam.py``, paper form with 1 to 9 modes and system form with 1 to
+5), every normalization (``monic``,
 ``as-derived``, ``leading-one-denominator``), cancelled and uncancelled,
 prints the SHA-256 of ``srepr`` of the numerator and denominator ``Poly``
 (and the term counts).  Run it on two trees and compare the outputs::
@@ -36,6 +38,10 @@ def cases():
         yield f"chain{n}", bench_tf.chain(n)
     for n in range(3, 9):
         yield f"bgchain{n}", bench_tf.bond_graph_chain(n)
+    for n in range(1, 10):
+        yield f"flexcam{n}", bench_tf.flexcam(n)
+    for n in range(1, 6):
+        yield f"flexcam_sys{n}", bench_tf.flexcam(n, "system")
 
 
 def main() -> int:

@@ -151,7 +151,7 @@ def transfer_function(eqs: StateEquations, input=None, output=None, *,
     fields = () if augmented is None else tuple(
         el for el in augmented.flat.elements
         if getattr(el, "matrix", None) is not None and hasattr(el, "check_values"))
-    return dataclasses.replace(G, known_parameters=eqs.known_parameters, value_checks=fields)
+    return G._with_metadata(known_parameters=eqs.known_parameters, value_checks=fields)
 
 
 def transfer_matrix(eqs: StateEquations, **options):

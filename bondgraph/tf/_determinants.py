@@ -26,7 +26,8 @@ from ._encode import EncodedSystem
 from ._rings import Ring
 from .errors import InvalidOptionError
 
-__all__ = ["determinant", "charpoly_berkowitz", "split_s", "LAPLACE_MIN"]
+__all__ = ["determinant", "charpoly_berkowitz", "split_s", "LAPLACE_MIN", "laplace_cost",
+           "laplace_limit"]
 
 #: ``method='auto'`` uses the Laplace expansion while it needs at most
 #: ``max(n**3, LAPLACE_MIN)`` ring products (about what Bareiss needs, but with
@@ -57,20 +58,46 @@ def determinant(M: Sequence[Sequence[Any]], ring: Ring, *, method: str = "auto")
                                  f"got {method!r}")
     if method == "bareiss":
         return _bareiss(M, ring)
-    pattern = [[ring.is_zero(M[i][j]) is False for j in range(n)] for i in range(n)]
-    limit = None if method == "laplace" else max(n ** 3, LAPLACE_MIN)
-    best = None
-    for transpose in (False, True):
-        pat = pattern if not transpose else [list(r) for r in zip(*pattern)]
-        plan = _laplace_plan(pat, limit)
-        if plan is not None and (best is None or plan[1] < best[2]):
-            best = (transpose, plan[0], plan[1])
+    best = _best_plan(M, ring, None if method == "laplace" else laplace_limit(n))
     if best is None:
         return _bareiss(M, ring)
     transpose, order, _ = best
     if transpose:
         M = [list(r) for r in zip(*M)]
     return _laplace(M, ring, order)
+
+
+def laplace_limit(n: int) -> int:
+    """The most ring products ``method='auto'`` spends on a Laplace expansion of order ``n``."""
+    return max(n ** 3, LAPLACE_MIN)
+
+
+def laplace_cost(M: Sequence[Sequence[Any]], ring: Ring, limit: int | None) -> int | None:
+    """Ring products of the Laplace expansion of ``M`` (the cheaper of ``M`` and its
+    transpose), or ``None`` past ``limit``.
+
+    Examples
+    --------
+    >>> from bondgraph.tf._rings import make_ring
+    >>> R = make_ring(1)
+    >>> x, o, z = R.gen(0), R.one, R.zero
+    >>> laplace_cost([[x, o, z], [z, x, o], [o, z, x]], R, None)
+    6
+    """
+    best = _best_plan(M, ring, limit)
+    return None if best is None else best[2]
+
+
+def _best_plan(M, ring: Ring, limit: int | None) -> tuple[bool, list[int], int] | None:
+    n = len(M)
+    pattern = [[ring.is_zero(M[i][j]) is False for j in range(n)] for i in range(n)]
+    best = None
+    for transpose in (False, True):
+        pat = pattern if not transpose else [list(r) for r in zip(*pattern)]
+        plan = _laplace_plan(pat, limit)
+        if plan is not None and (best is None or plan[1] < best[2]):
+            best = (transpose, plan[0], plan[1])
+    return best
 
 
 def _laplace_plan(pattern: Sequence[Sequence[bool]],

@@ -45,6 +45,7 @@ import numpy as np
 
 from ._determinants import determinant
 from ._encode import EncodedSystem
+from ._lift import lifted
 from ._rings import Ring, _FlintRing
 
 __all__ = ["Terms", "packed_determinants", "can_pack"]
@@ -133,14 +134,19 @@ class _Packing:
 
     def unpack(self, p) -> Terms:
         monoms = p.monoms()
+        count = len(monoms)
         ngroups = self.ring.nvars
-        cols = [np.array([int(m[gi]) for m in monoms], dtype=np.uint64)
+        cols = [np.fromiter((m[gi] for m in monoms), dtype=np.uint64, count=count)
                 for gi in range(ngroups)]
-        # small integers: the arrays are copied and sliced, and their size is the memory
-        dtype = np.int16 if max(self.bits) <= 12 else np.int64
-        exps = np.empty((len(monoms), len(self.bits)), dtype=dtype)
+        del monoms          # the largest transient: a tuple of ints per term
+        # small integers: the arrays are copied and sliced, and their size is the memory;
+        # int8 while a cleared exponent (at most twice a field's largest value) fits
+        top = max(self.bits, default=0)
+        dtype = np.int8 if top <= 6 else np.int16 if top <= 12 else np.int64
+        exps = np.empty((count, len(self.bits)), dtype=dtype)
         for v, (gi, off, b) in enumerate(zip(self.group, self.offset, self.bits)):
             exps[:, v] = (cols[gi] >> np.uint64(off)) & np.uint64((1 << b) - 1) if b else 0
+        del cols
         coeffs = [int(c.p) if c.q == 1 else Fraction(int(c.p), int(c.q)) for c in p.coeffs()]
         return Terms(exps, coeffs)
 
@@ -154,8 +160,10 @@ def packed_determinants(enc: EncodedSystem, pairs: Sequence[tuple[int, int]], *,
     """
     ring = enc.ring
     pencil = enc.pencil()
-    bordered = [enc.bordered(pencil, i, j) for i, j in pairs]
-    pk = _Packing(_degree_bounds([pencil] + bordered, ring))
+    # rank-one couplings (a junction's) lifted out: det M = det L / prod(divisors)
+    mats = [lifted(M, ring, method) for M in [pencil] + [enc.bordered(pencil, i, j)
+                                                          for i, j in pairs]]
+    pk = _Packing(_degree_bounds([L for L, _ in mats], ring))
     R = pk.ring
     ctx = R.ctx
     cache: dict[int, Any] = {}
@@ -172,10 +180,14 @@ def packed_determinants(enc: EncodedSystem, pairs: Sequence[tuple[int, int]], *,
             out.append(prow)
         return out
 
-    den = determinant(packed(pencil), R, method=method)
-    nums = [determinant(packed(M), R, method=method) for M in bordered]
-    out = [pk.unpack(x) for x in [den] + nums]
-    for t, sp_ in zip(out, _specialized(enc, [pencil] + bordered, method)):
+    def det(L, divisors):
+        value = determinant(packed(L), R, method=method)
+        for d in divisors:
+            value = R.exquo(value, pk.pack(d, ctx))
+        return value
+
+    out = [pk.unpack(det(L, divisors)) for L, divisors in mats]
+    for t, sp_ in zip(out, _specialized(enc, mats, method)):
         t.spec = sp_
     return out[0], out[1:]
 
@@ -208,7 +220,8 @@ def _specialized(enc: EncodedSystem, mats, method: str) -> list:
     """The determinants at a random integer point of the parameters, with each
     reciprocal ``r_j = 1/m_j`` at its base's value: the cleared polynomials
     there up to one nonzero constant (used to prove numerator and denominator
-    coprime in ``s``)."""
+    coprime in ``s``).  ``mats``: pairs ``(L, divisors)`` of :func:`lifted`
+    (a divisor vanishing at the point leaves the value undecided: ``None``)."""
     import flint
 
     ring = enc.ring
@@ -234,5 +247,11 @@ def _specialized(enc: EncodedSystem, mats, method: str) -> list:
             cache[key] = (p, total)
         return cache[key][1]
 
-    return [determinant([[value(p) for p in row] for row in M], U, method=method)
-            for M in mats]
+    out = []
+    for L, divisors in mats:
+        scale = U.one
+        for d in divisors:
+            scale *= value(d)
+        out.append(None if scale == 0 else
+                   determinant([[value(p) for p in row] for row in L], U, method=method) // scale)
+    return out

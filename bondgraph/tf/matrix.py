@@ -15,7 +15,7 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from typing import Any, Mapping
 
 import sympy as sp
@@ -94,7 +94,7 @@ class TransferMatrix:
         else:
             G = _cancel_pair(self.nums[i][j], self.den, self.input_names[j],
                              self.output_names[i], self.normalize)
-        return replace(G, known_parameters=self.known_parameters)
+        return G._with_metadata(known_parameters=self.known_parameters)
 
     def to_latex(self, *, lhs: bool | str = True) -> str:
         r"""``G(s) = \frac{1}{den(s)} [num_ij(s)]`` (rows: outputs, columns: inputs).

@@ -51,6 +51,7 @@ from ._budget import DEFAULT_MAX_TERMS, check_budget
 from ._checks import (METHODS, NORMALIZATIONS, Normalize, _check_options, _check_shapes,
                       resolve_signal, _signal_names)
 from ._convert import _Converter
+from ._lift import lifted_determinant
 from .._support.gcpause import paused_gc
 from ._packed import can_pack, packed_determinants
 from ._packed_ops import clear_terms, normalize_terms
@@ -96,11 +97,11 @@ def _compute(A, B, C, D, E, s, method, backend, max_terms=None, what="transfer f
         den, nums = alg.charpoly_berkowitz(enc)
     else:
         pencil = enc.pencil()
-        den = alg.determinant(pencil, ring, method=method)
+        den = lifted_determinant(pencil, ring, method=method)
         if ring.is_zero(den):
             raise SingularPencilError("E, A: det(sE - A) is identically zero (singular "
                                       "pencil); the system has no transfer function")
-        nums = [[alg.determinant(enc.bordered(pencil, i, j), ring, method=method)
+        nums = [[lifted_determinant(enc.bordered(pencil, i, j), ring, method=method)
                  for j in range(m)] for i in range(p)]
     flat = alg.clear_reciprocals([den] + [x for row in nums for x in row], enc)
     den = flat[0]

@@ -27,7 +27,9 @@ from ..parameters import exact_value, match_values
 from .._support.sympify import as_expr
 from . import _algebra as alg
 from ._checks import Normalize, _check_options
+from .._support.gcpause import paused_gc
 from ._convert import _Converter
+from ._deferred import Deferred
 from ._packed import Terms
 from ._packed_ops import cancel_terms, normalize_terms
 from ._exact import _domain_gens, _poly_values, _used_symbols, _value_map
@@ -75,6 +77,50 @@ class SymbolicTF:
     #: the model's fields, each checked (``check_values``) at the values :meth:`subs` is given
     value_checks: tuple = field(default=(), compare=False, repr=False)
 
+    @classmethod
+    def _deferred(cls, source: Deferred, input_name: str, output_name: str, *,
+                  known_parameters: tuple[str, ...] = (),
+                  value_checks: tuple = ()) -> "SymbolicTF":
+        """A transfer function whose sympy ``num``/``den`` are built on first access
+        (see :mod:`bondgraph.tf._deferred`)."""
+        obj = object.__new__(cls)
+        for name, value in (("input_name", input_name), ("output_name", output_name),
+                            ("known_parameters", known_parameters),
+                            ("value_checks", value_checks), ("_source", source)):
+            object.__setattr__(obj, name, value)
+        return obj
+
+    def __getattr__(self, name: str):
+        # only reached for attributes not set: num and den of a deferred transfer function
+        source = self.__dict__.get("_source") if name in ("num", "den") else None
+        if source is None:
+            raise AttributeError(f"{type(self).__name__!r} object has no attribute {name!r}")
+        with paused_gc():       # as the eager path: millions of objects, no cycles
+            num, den = source.polys()
+        object.__setattr__(self, "num", num)
+        object.__setattr__(self, "den", den)
+        object.__setattr__(self, "_source", None)     # the arrays are not needed any more
+        return num if name == "num" else den
+
+    def __reduce__(self):
+        return (type(self), (self.num, self.den, self.input_name, self.output_name,
+                             self.known_parameters, self.value_checks))
+
+    def _with_metadata(self, **changes) -> "SymbolicTF":
+        """``dataclasses.replace`` of ``known_parameters``/``value_checks`` that keeps
+        a deferred transfer function deferred."""
+        source = self.__dict__.get("_source")
+        if source is None or "num" in self.__dict__:
+            return replace(self, **changes)
+        meta = {"known_parameters": self.known_parameters, "value_checks": self.value_checks}
+        meta.update(changes)
+        return SymbolicTF._deferred(source, self.input_name, self.output_name, **meta)
+
+    def _arrays(self) -> Deferred | None:
+        """The deferred source while ``num``/``den`` are not built and are arrays."""
+        source = self.__dict__.get("_source")
+        return source if source is not None and source.arrays else None
+
     def __post_init__(self):
         for label in ("num", "den"):
             P = getattr(self, label)
@@ -115,7 +161,8 @@ class SymbolicTF:
     @property
     def s(self) -> sp.Symbol:
         """The Laplace variable."""
-        return self.num.gen
+        source = self.__dict__.get("_source")
+        return source.s if source is not None else self.num.gen
 
     @property
     def num_coeffs(self) -> tuple[sp.Expr, ...]:
@@ -135,7 +182,8 @@ class SymbolicTF:
     @property
     def order(self) -> int:
         """Degree of the denominator."""
-        return self.den.degree()
+        source = self._arrays()
+        return source.den_degree if source is not None else self.den.degree()
 
     @property
     def parameters(self) -> tuple[sp.Symbol, ...]:
@@ -159,6 +207,9 @@ class SymbolicTF:
         >>> G.expr, G.is_proper, G.subs({"m": 2, "b": 3})(1j)
         (b + m*s, False, (3+2j))
         """
+        source = self._arrays()
+        if source is not None:
+            return source.num_degree <= source.den_degree
         return self.num.is_zero or self.num.degree() <= self.den.degree()
 
     # -- numeric --------------------------------------------------------------------
@@ -209,6 +260,9 @@ class SymbolicTF:
             exact = {p: exact_value(v, p.name) for p, v in given.items()}
             return replace(self, num=sp.Poly(self.num.as_expr().xreplace(exact), self.s),
                            den=sp.Poly(self.den.as_expr().xreplace(exact), self.s))
+        fast = self._numeric_from_arrays(values)
+        if fast is not None:
+            return fast
         gens = tuple(dict.fromkeys(_domain_gens(self.num) + _domain_gens(self.den)))
         used = _used_symbols(self.num) | _used_symbols(self.den)
         vm = _value_map(gens, values, self.known_parameters, used=used)
@@ -217,6 +271,26 @@ class SymbolicTF:
         return NumericTF(tuple(_poly_values(self.num, gens, vm)),
                          tuple(_poly_values(self.den, gens, vm)),
                          self.input_name, self.output_name, str(self.s))
+
+    def _numeric_from_arrays(self, values: Mapping | None) -> NumericTF | None:
+        """:meth:`subs` read from the exponent arrays, without building sympy
+        ``Poly`` objects; ``None`` when the sympy form must decide (a pivot
+        of several terms or vanishing at the values, a float overflow)."""
+        source = self._arrays()
+        if source is None or source.pivot() is None:
+            return None
+        gens = source.params
+        vm = _value_map(gens, values, self.known_parameters, used=source.used())
+        for element in self.value_checks:       # a field positive definite at these values
+            element.check_values(values or {})
+        exact = source.values([vm[g] for g in gens])
+        if exact is None:
+            return None
+        try:
+            num, den = (tuple(float(c) for c in part) for part in exact)
+        except OverflowError:
+            return None
+        return NumericTF(num, den, self.input_name, self.output_name, str(self.s))
 
     def poles(self, values: Mapping | None = None) -> np.ndarray:
         """Poles (numerically, after :meth:`subs`)."""
@@ -301,5 +375,9 @@ def _entry(conv: _Converter, num: dict, den: dict, s: sp.Symbol, input_name: str
             num, den = cancel_terms(num, den, conv.ring, conv.k)
         else:
             num, den = alg.cancel_common(num, den, conv.ring, conv.k)
-    Pd, (Pn,) = normalize_terms(conv, den, [num], normalize, s)
-    return SymbolicTF(Pn, Pd, input_name, output_name)
+    if not isinstance(den, Terms) or not len(den):
+        Pd, (Pn,) = normalize_terms(conv, den, [num], normalize, s)
+        return SymbolicTF(Pn, Pd, input_name, output_name)
+    # sympy Polys on first access (num, den, coefficients, printing)
+    return SymbolicTF._deferred(Deferred(conv, num, den, normalize, s), input_name,
+                                output_name)
