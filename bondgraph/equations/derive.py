@@ -14,6 +14,9 @@ what follows them: no solve, simplify or row reduction over the whole system.
   chain rule in the state derivatives; the resulting equations are linear in
   those derivatives, ``E(x) x' = F(x, u)`` (kept as the descriptor form) and
   solved block by block, which yields the effective inertia ``J1 + n**2 J2``.
+  A stored quantity fixed through algebraic unknowns (a nonlinear loop, a law
+  with no closed-form inverse, its own displacement in a modulus) has its
+  constraint differentiated instead (:mod:`~bondgraph.equations.dependent`).
 
 Examples
 --------
@@ -87,7 +90,9 @@ def derive_equations(graph: Union[BondGraph, AugmentedBondGraph], outputs: Outpu
     OutputError
         An output names no element or bond, or is not an expression.
     AlgebraicLoopError
-        A singular loop, or storage in derivative causality through a loop.
+        A singular loop, or storage in derivative causality whose stored quantity
+        depends on the rate of another storage element in derivative causality (a
+        constraint of higher index; see :mod:`~bondgraph.equations.dependent`).
 
     Examples
     --------
