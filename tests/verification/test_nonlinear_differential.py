@@ -66,12 +66,13 @@ def test_random_nonlinear_graphs_agree_with_the_reference(chunk):
     details = {o.seed: o.detail for o in outcomes if o.cls in ("wrong", "crash", "timeout",
                                                                   "no-equilibrium-found")}
     assert not by_class["wrong"] and not by_class["crash"], details
-    # seeds 0..199 at the time of writing: 194 agree (65 and 188 with storage in derivative
-    # causality, against the reference's own index reduction), 4 no-equilibrium-found
-    # ("not isolated" at a kink), 2 input-derivatives
+    # seeds 0..199 at the time of writing: 196 agree (65 and 188 with storage in derivative
+    # causality, against the reference's own index reduction; 38 and 150 need du/dt, their
+    # x' compared at random points), 4 no-equilibrium-found ("not isolated" at a kink)
     assert len(by_class["agree"]) >= 0.85 * len(seeds), by_class
     # the comparisons actually ran: trajectories, Jacobians, equilibria
-    checks = [o.checks for o in outcomes if o.cls == "agree" and o.checks]   # {}: no states
+    checks = [o.checks for o in outcomes if o.cls == "agree" and o.checks   # {}: no states
+              and "input_derivative_rhs" not in o.checks]        # not simulated: needs du/dt
     assert sum("trajectory" in c for c in checks) == len(checks)
     assert sum("jacobian" in c for c in checks) == len(checks)
     assert sum("equilibrium" in c for c in checks) >= len(checks) // 2
