@@ -18,6 +18,11 @@ the code under test:
   and fed by a flow source ``J``: ``q_c N(q_c) = (c/k) q_k`` (brentq), and
   ``q_k' = J - q_c'/N``, ``(N^2 - (c/k) q_k sin q_c) q_c' = (c/k) N q_k'``
   (the constraint differentiated by hand), a 2 x 2 linear solve;
+* an inertia ``J2`` behind an MTF whose ratio ``1 + tanh(i)/2`` follows the
+  current ``i`` of a nonlinear loop (a capacitor discharging through a
+  resistor in series with ``e = a f + beta tanh(f)``): ``i`` by brentq, its
+  rate by differentiating the loop equation by hand, and ``(J1 + J2 n^2)
+  w1' = T - b w1 - J2 n n' w1``;
 * a storage element whose stored quantity depends on the *rate* of another
   in derivative causality stays refused, naming both.
 """
@@ -203,6 +208,55 @@ def test_self_modulated_compliance_against_hand_ode():
     hand = [selfmod_hand(q, source(t)) for q, t in zip(ref.y[0], t_eval)]
     assert np.allclose(res["qc"], [h[1] for h in hand], rtol=1e-7, atol=1e-9)
     assert np.allclose(res["fc"], [h[2] for h in hand], rtol=1e-6, atol=1e-8)
+
+
+# ----------------------------------------------------------------------------- loop
+LOOP = {"Cc": 0.5, "R1": 1.0, "a": 0.3, "beta": 0.8, "J1": 1.0, "b": 0.2, "J2": 2.0}
+
+
+def loop_gear() -> bg.Model:
+    """A capacitor discharging through ``R1`` in series with ``e = a f + beta tanh(f)`` (a
+    nonlinear loop: the current ``i`` is an algebraic unknown) sets the ratio ``n = 1 +
+    tanh(i)/2`` of an MTF between the driven inertia ``J1`` and ``J2``."""
+    a, beta = sympy.symbols("a beta", positive=True)
+    g = bg.BondGraph("loop_gear")
+    g.add(bg.C("Cc"), bg.Zero("n"), bg.One("s"), bg.R("R1"),
+          bg.R("D", law=a * bg.f + beta * sympy.tanh(bg.f)), bg.Se("T"), bg.One("w1"),
+          bg.I("J1"), bg.R("b"), bg.MTF("M", 1 + sympy.tanh(bg.flow("D")) / 2), bg.One("w2"),
+          bg.I("J2"))
+    for t, h in [("n", "Cc"), ("n", "s"), ("s", "R1"), ("s", "D"), ("T", "w1"), ("w1", "J1"),
+                 ("w1", "b"), ("w1", "M"), ("M", "w2"), ("w2", "J2")]:
+        g.connect(t, h)
+    return bg.derive(g, outputs={"w2": bg.flow("J2")})
+
+
+def test_inertia_through_a_nonlinear_loop_against_hand_ode():
+    """By hand: ``q/Cc = (R1 + a) i + beta tanh(i)`` (brentq), ``q' = -i``, so ``i' = -i /
+    (Cc (R1 + a + beta sech^2 i))``; ``p2 = J2 n w1`` and ``J1 w1' = T - b w1 - n p2'`` give
+    ``(J1 + J2 n^2) w1' = T - b w1 - J2 n n' w1`` with ``n' = sech^2(i) i' / 2``."""
+    model = loop_gear()
+    assert model.state_names == ("q_Cc", "p_J1") and model.algebraic_names == ("f_D",)
+    v = LOOP
+
+    def current(q):
+        return brentq(lambda i: (v["R1"] + v["a"]) * i + v["beta"] * math.tanh(i) - q / v["Cc"],
+                      -50.0, 50.0, xtol=1e-15)
+
+    def hand(t, y):
+        q, w = y
+        i = current(q)
+        sech2 = 1 - math.tanh(i)**2
+        di = -i / (v["Cc"] * (v["R1"] + v["a"] + v["beta"] * sech2))
+        n, dn = 1 + math.tanh(i) / 2, sech2 * di / 2
+        return [-i, (1.0 - v["b"] * w - v["J2"] * n * dn * w) / (v["J1"] + v["J2"] * n**2)]
+    t_eval = np.linspace(0.0, 3.0, 13)
+    ref = solve_ivp(hand, (0.0, 3.0), [1.0, 0.5], t_eval=t_eval, rtol=1e-11, atol=1e-13)
+    res = bg.simulate(model, LOOP, (0.0, 3.0), {"q_Cc": 1.0, "p_J1": 0.5 * v["J1"]},
+                      u=lambda t: [1.0], t_eval=t_eval, rtol=1e-11, atol=1e-13)
+    assert np.allclose(res["q_Cc"], ref.y[0], rtol=1e-8, atol=1e-10)
+    assert np.allclose(res["p_J1"] / v["J1"], ref.y[1], rtol=1e-8, atol=1e-10)
+    n = [1 + math.tanh(current(q)) / 2 for q in ref.y[0]]
+    assert np.allclose(res["w2"], np.array(n) * ref.y[1], rtol=1e-8, atol=1e-10)
 
 
 # ----------------------------------------------------------------------------- refused
