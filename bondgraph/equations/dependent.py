@@ -85,6 +85,7 @@ class DependentStorage:
         self.zdot_eqs: dict[sympy.Symbol, sympy.Expr] = {}
         self.rate_syms = {self.d.broken[v]: n for n, outs in self.d.dependent_vars.items()
                           for v in outs}
+        self.rate_set = set(self.rate_syms)
         self.stored_of = {s: n for n, xs in self.d.stored_sym.items() for s in xs}
         #: stored quantities kept as algebraic unknowns
         self.kept: set = set()
@@ -109,7 +110,7 @@ class DependentStorage:
                                "inverse in this causality")
             for s, x in zip(d.stored_sym[name], values):
                 x = x.xreplace(self.sub)
-                rates = x.free_symbols & set(self.rate_syms)
+                rates = x.free_symbols & self.rate_set
                 if rates:
                     self._refuse_rate(name, sorted({self.rate_syms[r] for r in rates}))
                 out[s] = x
@@ -129,8 +130,9 @@ class DependentStorage:
         d = self.d
         dg = nx.DiGraph()
         dg.add_nodes_from(stored)
+        free = set(stored) - self.kept
         for s, x in stored.items():
-            for o in x.free_symbols & set(stored) - self.kept:
+            for o in x.free_symbols & free:
                 if s not in self.kept:
                     dg.add_edge(o, s)
         cond = nx.condensation(dg)
@@ -163,9 +165,9 @@ class DependentStorage:
         their residuals hold in turn; the residuals' time derivatives as their equations."""
         d = self.d
         residual = {e[0]: e[2] for e in d.implicit.entries}
-        held = set()
+        held, unknowns = set(), set(residual)
         for s in stored:            # its value, or itself when kept as an unknown
-            held |= s.xreplace(self.sub).free_symbols & set(residual)
+            held |= s.xreplace(self.sub).free_symbols & unknowns
         todo = sorted(held, key=sympy.default_sort_key)
         while todo:
             z = todo.pop()
@@ -173,14 +175,14 @@ class DependentStorage:
                 continue
             self.zdot[z] = sympy.Dummy(f"d{z.name}/dt", real=True)
             g = residual[z].xreplace(self.sub)
-            for o in g.free_symbols & set(residual):
+            for o in g.free_symbols & unknowns:
                 if o not in self.zdot:
                     todo.append(o)
             self.zdot_eqs[self.zdot[z]] = g
         origin = {e[0]: e for e in d.implicit.entries}
         for z, zd in self.zdot.items():
             g = self.zdot_eqs[zd]
-            rates = g.free_symbols & set(self.rate_syms)
+            rates = g.free_symbols & self.rate_set
             if rates:
                 users = [n for n, xs in d.stored_sym.items()
                          if any(s.xreplace(self.sub).free_symbols & set(self.zdot) for s in xs)]
