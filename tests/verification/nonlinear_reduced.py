@@ -153,7 +153,11 @@ class ReducedReference(DAEReference):
             us = u if t is None else self.u_of_t(t + k * h)
             return self._reduced(w, x + k * h * xdot, us, r, J[:B2, B2:])[0]
         dF = (moved(-2) - 8 * moved(-1) + 8 * moved(1) - moved(2)) / (12 * h)
-        rate = -np.linalg.solve(J, dF)[B2:]
+        try:
+            rate = -np.linalg.solve(J, dF)[B2:]
+        except np.linalg.LinAlgError as exc:   # a saturating law near its limit: x_D -> inf
+            raise ReferenceError_(f"the constraint is singular at x={list(x)}, u={list(u)}"
+                                  ) from exc
         return rate - r, xdot
 
     def f(self, x: Sequence[float], u: Sequence[float], t: Optional[float] = None
