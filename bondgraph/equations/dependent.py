@@ -89,6 +89,8 @@ class DependentStorage:
         self.stored_of = {s: n for n, xs in self.d.stored_sym.items() for s in xs}
         #: stored quantities kept as algebraic unknowns
         self.kept: set = set()
+        #: unknowns that no rate may hold (set once the rates are known)
+        self.unknowns: set = set()
 
     # ------------------------------------------------------------ stored quantities
     def _stored(self) -> dict[sympy.Symbol, sympy.Expr]:
@@ -200,6 +202,8 @@ class DependentStorage:
                 terms.append(sympy.diff(expr, s) * rate)
             elif s == T_SYM:
                 terms.append(sympy.diff(expr, s))
+            elif s in self.unknowns:     # pragma: no cover - substituted or refused before
+                raise AssertionError(f"{s} is not differentiated in {expr}")
         return sympy.Add(*terms)
 
     # ------------------------------------------------------------ main
@@ -214,6 +218,8 @@ class DependentStorage:
         for u in list(self.sub):         # loop solutions may hold stored quantities
             self.sub[u] = self.sub[u].xreplace(self.sub)
         self._differentiate_constraints(stored)
+        self.unknowns = (set(d.broken.values()) | set(self.stored_of)
+                         | d.implicit.law_symbols()) - set(self.zdot)
         for name, outs in d.dependent_vars.items():
             el = d.flat.element(name)
             local = d._local(el, d.val.__getitem__)
