@@ -8,9 +8,11 @@ modulated sources) is checked against the independent DAE reference of
 central differences of the reference), ``equilibrium`` (the reference's
 residual at the point found, the stability verdict against the reference's
 eigenvalues).  Classes: wrong, crash, timeout (CPU seconds per graph),
-refused (a nonlinear algebraic loop or a law that cannot be inverted: issue
-29's), no-equilibrium-found (the package found none where the reference
-did), reference-failed, agree.
+refused (by reason), no-equilibrium-found (the package found none where the
+reference did), reference-failed, input-derivatives (dependent storage whose
+equations need du/dt: not simulated, not compared), agree.  Graphs with storage
+in derivative causality are compared against the reference's own index
+reduction (``tests/verification/nonlinear_reduced.py``; the check "reduced").
 
     python bench/verify_nonlinear.py --n 5000 --seed 0 --jobs 2 --timeout 30
 
@@ -42,6 +44,8 @@ def _one(args):
 
 
 def _refusal_kind(detail: str) -> str:
+    if "rate of the storage" in detail:
+        return "higher index (a stored quantity needs another dependent storage's rate)"
     if "inverse" in detail:
         return "law not invertible (give inverse=)"
     if "nonlinear in its unknowns" in detail or "AlgebraicLoopError" in detail:

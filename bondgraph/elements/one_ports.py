@@ -479,6 +479,12 @@ class _Storage(OnePort):
         dual = self._signed(local, local.input(0), not local.effort_in(0))
         return (self._modulated(local, self._backward_at(dual)),)
 
+    def implicit_stored(self, local: LocalVariables,
+                        unknowns: Sequence[sympy.Symbol]) -> Optional[tuple[sympy.Expr, ...]]:
+        dual = self._signed(local, local.input(0), not local.effort_in(0))
+        residual = self._implicit_at(local, 1, dual, unknowns[0])   # dual = law(unknown)
+        return None if residual is None else (residual,)
+
     def derivative_output(self, local: LocalVariables, port: int,
                           rates: Sequence[sympy.Expr]) -> sympy.Expr:
         return self._signed(local, rates[0], local.effort_in(0))

@@ -493,6 +493,19 @@ class Element:
         the states."""
         return ()
 
+    def implicit_stored(self, local: LocalVariables,
+                        unknowns: Sequence[sympy.Symbol]) -> Optional[tuple[sympy.Expr, ...]]:
+        """When :meth:`stored` has no closed form (a law with no symbolic inverse), the
+        residuals ``r`` with ``r = 0`` defining the stored quantities ``unknowns``; None
+        otherwise.
+
+        Asked only after :meth:`stored` raised :class:`~bondgraph.errors.LawError`;
+        the derivation then keeps ``unknowns`` as algebraic variables and
+        differentiates the residuals for their rates
+        (:mod:`bondgraph.equations.dependent`).
+        """
+        return None
+
     def derivative_output(self, local: LocalVariables, port: int,
                           rates: Sequence[sympy.Expr]) -> sympy.Expr:
         """The output variable of a derivative ``port`` from the time derivatives of

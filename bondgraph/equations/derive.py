@@ -14,6 +14,9 @@ what follows them: no solve, simplify or row reduction over the whole system.
   chain rule in the state derivatives; the resulting equations are linear in
   those derivatives, ``E(x) x' = F(x, u)`` (kept as the descriptor form) and
   solved block by block, which yields the effective inertia ``J1 + n**2 J2``.
+  A stored quantity fixed through algebraic unknowns (a nonlinear loop, a law
+  with no closed-form inverse, its own displacement in a modulus) has its
+  constraint differentiated instead (:mod:`~bondgraph.equations.dependent`).
 
 Examples
 --------
@@ -44,6 +47,7 @@ from ..errors import (AlgebraicLoopError, BondGraphWarning, CausalityError, LawE
                      NameClashError, OutputError)
 from ..flatten import FlatGraph
 from ..graph import BondGraph
+from .dependent import DependentStorage
 from .implicit import ImplicitPart
 from .integrators import state_combination
 from .loops import SingularLoopError, compact_linear, rate_coefficients, solve_blocks
@@ -86,7 +90,9 @@ def derive_equations(graph: Union[BondGraph, AugmentedBondGraph], outputs: Outpu
     OutputError
         An output names no element or bond, or is not an expression.
     AlgebraicLoopError
-        A singular loop, or storage in derivative causality through a loop.
+        A singular loop, or storage in derivative causality whose stored quantity
+        depends on the rate of another storage element in derivative causality (a
+        constraint of higher index; see :mod:`~bondgraph.equations.dependent`).
 
     Examples
     --------
@@ -419,24 +425,6 @@ class _Deriver:
         z = self.broken.get(u)
         return z if z is not None else self.val[u]
 
-    def _ddt(self, expr: sympy.Expr, el: Element) -> sympy.Expr:
-        """Total time derivative through states, inputs and t."""
-        terms, unknown = [], self.__dict__.get("_unknown_set") or self.__dict__.setdefault(
-            "_unknown_set", set(self.broken.values()) | self.implicit.law_symbols())
-        for s in expr.free_symbols:
-            if s in self.xdot:
-                terms.append(sympy.diff(expr, s) * self.xdot[s])
-            elif s in self.udot:
-                terms.append(sympy.diff(expr, s) * self.udot[s])
-            elif s == T_SYM:
-                terms.append(sympy.diff(expr, s))
-            elif s in unknown:
-                raise AlgebraicLoopError(
-                    f"{el.label()} is in derivative causality through an algebraic loop; "
-                    "this combination is not supported"
-                )
-        return sympy.Add(*terms)
-
     def _local(self, el: Element, read) -> "_Local":
         """The element's view of its variables; ``read`` gives a bond variable's value."""
         return _Local(self, el.name, self.flat.incidence[el.name], read)
@@ -535,30 +523,9 @@ class _Deriver:
         zsol = self._solve_blocks({z: self.val[v] for v, z in self.broken.items()
                                    if v not in self.dependent}, "algebraic loop", loops)
         self.implicit.add_loops(loops)
-        # storage in derivative causality: stored quantity and its time derivative
-        unknowns_of = {n: set(xs) | {self.broken[v] for v in self.dependent_vars[n]}
-                       for n, xs in self.stored_sym.items()}
-        dep_syms = set().union(*unknowns_of.values())
-        for name, outs in self.dependent_vars.items():
-            el = self.flat.element(name)
-            local = self._local(el, self.val.__getitem__)
-            stored = [x.xreplace(zsol) for x in el.stored(local)]
-            for x in stored:
-                if x.free_symbols & dep_syms:
-                    others = sorted(n for n, syms in unknowns_of.items()
-                                    if syms & x.free_symbols)
-                    raise AlgebraicLoopError(
-                        f"{el.label()} is in derivative causality and its input depends on the "
-                        f"storage element(s) {', '.join(others or [name])}, also in derivative "
-                        "causality (a higher-index model); make one of them compliant or add a "
-                        "storage element between them"
-                    )
-            zsol.update(zip(self.stored_sym[name], stored))
-            rates = [self._ddt(x, el) for x in stored]
-            for v in outs:
-                k = v // 2
-                port = self.port_at[k][self.bonds[k].head == name]
-                zsol[self.broken[v]] = el.derivative_output(local, port, rates)
+        # storage in derivative causality: stored quantities and their rates (index
+        # reduction where they hold algebraic unknowns: see equations.dependent)
+        zdsol = DependentStorage(self, zsol).run() or {}
         if zsol:
             # loop unknowns may hold dependent-storage unknowns: substitute to the bottom
             for u in list(zsol):
@@ -566,6 +533,10 @@ class _Deriver:
             raw = [r.xreplace(zsol) for r in raw]
             out_exprs = [o.xreplace(zsol) for o in out_exprs]
             self.implicit.substitute(zsol)
+        if zdsol:       # the rates of differentiated algebraic unknowns, in terms of x'
+            raw = [r.xreplace(zdsol) for r in raw]
+            out_exprs = [o.xreplace(zdsol) for o in out_exprs]
+            self.implicit.substitute(zdsol)
         # derivative causality: x' = raw(x, u, x')
         xd_syms = set(self.xdot.values())
         states = list(self.states)
@@ -588,6 +559,7 @@ class _Deriver:
             rhs = raw
             xsol = dict(zip(xd_of, raw))
         out_exprs = [o.xreplace(xsol) if o.free_symbols & xd_syms else o for o in out_exprs]
+        self.implicit.substitute(xsol, only=xd_syms)   # a loop holding a dependent rate
         states, rhs, out_exprs, descriptor = self._reuse_states(
             states, list(rhs), out_exprs, descriptor, n_storage)
         if self.broken:
@@ -597,10 +569,14 @@ class _Deriver:
             out_exprs = compact_linear(list(out_exprs), knowns)
         algebraic, residuals, origin, rhs, out_exprs = self.implicit.finish(
             set(self.xdot.values()), rhs, out_exprs)
+        if descriptor is not None and algebraic:
+            rename = self.implicit.renaming()
+            descriptor = (descriptor[0].xreplace(rename),
+                          tuple(f.xreplace(rename) for f in descriptor[1]))
         self._check_parameter_names(list(rhs) + list(out_exprs) + list(residuals))
         inputs = tuple(self.input_syms)
-        udots = tuple(self.udot[u] for u in inputs
-                      if any(self.udot[u] in r.free_symbols for r in list(rhs) + out_exprs))
+        udots = tuple(self.udot[u] for u in inputs if any(
+            self.udot[u] in r.free_symbols for r in list(rhs) + out_exprs + list(residuals)))
         return self.record(
             name=self.flat.name,
             augmented=self.aug,

@@ -35,7 +35,7 @@ capacitor: the loop current has no closed form.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Optional
 
 import sympy
 
@@ -109,17 +109,29 @@ class ImplicitPart:
                           f"loop through {', '.join(elements) or 'the junction structure'}{why}")
                 self.entries.append([u, named, r, origin, elements])
 
+    def add_stored(self, s: sympy.Symbol, named: sympy.Symbol, residual: sympy.Expr,
+                   origin: str, elements: tuple) -> None:
+        """A stored quantity of storage in derivative causality kept as an unknown
+        (see :mod:`~bondgraph.equations.dependent`)."""
+        self.entries.append([s, named, residual, origin, elements])
+
     def law_symbols(self) -> set:
         return {e[0] for e in self.entries if e[0] is e[1]}
 
     def named_symbols(self) -> set:
         return {e[1] for e in self.entries}
 
-    def substitute(self, solution: dict) -> None:
+    def substitute(self, solution: dict, only: Optional[set] = None) -> None:
+        """Substitute into the residuals (those holding a symbol of ``only``, if given)."""
         for e in self.entries:
-            e[2] = e[2].xreplace(solution)
+            if only is None or e[2].free_symbols & only:
+                e[2] = e[2].xreplace(solution)
 
     # ------------------------------------------------------------ result
+    def renaming(self) -> dict:
+        """The symbols used during the derivation -> the unknowns' names."""
+        return {e[0]: e[1] for e in self.entries if e[0] is not e[1]}
+
     def finish(self, rates: set, rhs, outputs):
         """``(algebraic, residuals, origin, rhs, outputs)`` with the unknowns named.
 
@@ -139,7 +151,7 @@ class ImplicitPart:
                     "derivative causality (a higher-index model with a nonlinear constraint); "
                     f"elements: {', '.join(e[4])}; make the storage element compliant or add "
                     "one between them")
-        rename = {e[0]: e[1] for e in self.entries if e[0] is not e[1]}
+        rename = self.renaming()
         residuals = tuple(e[2].xreplace(rename) for e in self.entries)
         return (tuple(e[1] for e in self.entries), residuals, tuple(e[3] for e in self.entries),
                 [r.xreplace(rename) for r in rhs], [o.xreplace(rename) for o in outputs])

@@ -15,8 +15,8 @@ count such graphs as answered, not refused, and compare
 for ``z`` by Newton) with its all-bond-variables ``scipy.optimize.root``
 reference at the same random states; a ``SimulationError`` from the Newton
 solve at a state where the reference finds a solution is a failure to report.
-Higher-index cases (derivative causality through a nonlinear constraint)
-remain refused with ``AlgebraicLoopError``.
+Storage in derivative causality constrained through such unknowns is reduced
+by differentiating the constraint (``tests/implicit/test_index_reduction.py``).
 """
 
 from __future__ import annotations

@@ -9,9 +9,9 @@
   (``n0 cos(q) + n1``), an MGY ``r (1 + tanh(q)/2)``, modulated effort sources
   ``e0 - kp q``, one or two input sources ``a + b sin(w t)``.  Junctions carry
   at most one storage element of their kind, so storage is mostly in integral
-  causality; a graph whose gyrators still join storage rigidly (fewer model
-  states than storage elements) is classed apart, the reference having no index
-  reduction.
+  causality; where gyrators or a modulated transformer still join storage
+  rigidly (fewer model states than storage elements), the reference reduces the
+  index itself (:mod:`verification.nonlinear_reduced`).
 * :func:`build` -- the :class:`bondgraph.BondGraph` (numbers in the laws).
 * :func:`check` -- ``simulate`` against the reference's trajectory,
   ``linearize`` at a random point and at the equilibrium against central
@@ -41,19 +41,24 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from verification.nonlinear_reduced import ReducedReference
 from verification.nonlinear_reference import DAEReference, NElement, NGraph, ReferenceError_
 
 __all__ = ["generate", "build", "check", "Outcome", "CLASSES", "dsl"]
 
-#: outcome classes, worst first; "refused" are nonlinear algebraic loops and missing inverse
-#: laws (issue 29), "no-equilibrium-found" a trim the package did not find that the
-#: reference did (reported apart), "reference-failed" the reference's own failure,
-#: "derivative-causality" a model with dependent storage (the reference has no index
-#: reduction: not compared).  Implicit models (issue 29: a loop or a law without a closed
-#: form kept as 0 = g(x, z, u)) are compared like the others, their Jacobians through the
-#: numeric plant (the implicit-function theorem)
+#: outcome classes, worst first; "refused" are derivations the package declines (issue
+#: 29: nonlinear loops and laws with no inverse are kept implicit, storage constrained
+#: through them reduced; what remains is a stored quantity depending on another dependent
+#: storage's rate), "no-equilibrium-found" a trim the package did not find that the
+#: reference did (reported apart), "reference-failed" the reference's own failure.
+#: Implicit models (0 = g(x, z, u)) are compared like the others, their Jacobians through
+#: the numeric plant (the implicit-function theorem).  Models with dependent storage are
+#: compared against the reference's own index reduction
+#: (:mod:`verification.nonlinear_reduced`); one whose dependent storage needs du/dt (an
+#: effort source across a compliance) cannot be simulated from input values, so its x'
+#: is compared at random states and times (the check "input_derivative_rhs")
 CLASSES = ("wrong", "crash", "timeout", "refused", "no-equilibrium-found", "reference-failed",
-           "derivative-causality", "agree")
+           "agree")
 
 #: tolerances: trajectories, Jacobians (central differences, h = 1e-6), equilibrium residual
 TOL_X, TOL_J, TOL_F = 1e-6, 1e-5, 1e-7
@@ -294,10 +299,16 @@ def _check(graph: NGraph, out: Outcome, t_end: float) -> None:
         return
     if set(model.state_names) < set(ref.state_names) and \
             set(model.input_names) == set(ref.input_names):
-        # storage in derivative causality (dependent storage through a GY or MGY): the
-        # reference keeps every storage state and has no index reduction; not compared
-        out.cls, out.detail = "derivative-causality", f"states {model.state_names}"
-        return
+        # storage in derivative causality: the reference's own index reduction (the
+        # constraint differentiated numerically along the motion) with the model's choice
+        # of independent storage
+        ref = ReducedReference(graph, {n for (n, _), s in zip(ref.states, ref.state_names)
+                                       if s not in model.state_names})
+        if model.input_derivatives and set(model.state_names) == set(ref.state_names):
+            # x' needs du/dt, which no simulation from input values has: the equations
+            # are compared at random states and times instead
+            _check_with_input_derivatives(model, ref, graph, out)
+            return
     if set(model.state_names) != set(ref.state_names) or \
             set(model.input_names) != set(ref.input_names):
         out.cls = "wrong"
@@ -319,6 +330,8 @@ def _check(graph: NGraph, out: Outcome, t_end: float) -> None:
     if not ref.states:
         out.detail = "no states"
         return
+    if isinstance(ref, ReducedReference):
+        out.checks["reduced"] = 1.0
     # ---- simulate
     x_ref = ref.simulate(t_end, t_eval, x0)
     try:
@@ -401,6 +414,46 @@ def _check(graph: NGraph, out: Outcome, t_end: float) -> None:
                      np.any(lam.real > margin) and eq.stability != "unstable"):
         out.cls = "wrong"
         out.detail = f"stability {eq.stability!r}, reference eigenvalues {lam}"
+
+
+def _check_with_input_derivatives(model, ref, graph: NGraph, out: Outcome) -> None:
+    """``x' = f(x, z, u, du/dt)`` of the model (``z`` by the package's Newton solve)
+    against the reduced reference along the inputs' time law, at random states and
+    times (a model that needs ``du/dt`` cannot be simulated from input values)."""
+    import sympy
+
+    from bondgraph.numeric.implicit import ImplicitSolver
+
+    if not ref.states:
+        out.detail = "no states"
+        return
+    xs, us, zs = list(model.states), list(model.inputs), list(model.algebraic)
+    uds = [sympy.Symbol(f"d{u.name}/dt", real=True) for u in us]
+    if not set(model.input_derivatives) <= set(uds):
+        out.cls, out.detail = "wrong", f"input derivatives {model.input_derivatives}"
+        return
+    f = sympy.lambdify([xs, us, uds, zs], list(model.rhs), modules="numpy")
+    solver = ImplicitSolver(model, ()) if zs else None
+    xi = [model.state_names.index(n) for n in ref.state_names]
+    ui = [model.input_names.index(n) for n in ref.input_names]
+    rng = np.random.default_rng(graph.seed)
+    worst = 0.0
+    for _ in range(4):
+        t = float(rng.uniform(0.0, 2.0))
+        x_ref = rng.normal(0.0, 0.4, len(ref.states))
+        u_ref = ref.u_of_t(t)
+        ud_ref = np.array([b * w * math.cos(w * t) for a, b, w in
+                           (graph.inputs[n] for n in ref.input_names)])
+        x, u, ud = np.empty(len(xs)), np.empty(len(us)), np.empty(len(us))
+        x[xi], u[ui], ud[ui] = x_ref, u_ref, ud_ref
+        z = solver.solve(t, x, u, np.zeros(0)) if solver is not None else np.zeros(0)
+        got = np.asarray(f(x, u, ud, z), dtype=float)[xi]
+        want = ref.f(x_ref, u_ref, t)
+        worst = max(worst, float(np.max(np.abs(got - want))) / (1.0 + float(np.max(np.abs(want)))))
+    out.checks["reduced"] = 1.0
+    out.checks["input_derivative_rhs"] = worst
+    if not worst <= TOL_J:
+        out.cls, out.detail = "wrong", f"x' with input derivatives differs by {worst:.3g}"
 
 
 def _rel(A, A_ref, B, B_ref) -> float:

@@ -149,12 +149,15 @@ class DAEReference:
     def system(self, z: np.ndarray, x: np.ndarray, u: np.ndarray
                ) -> tuple[np.ndarray, np.ndarray]:
         """The residual and its Jacobian in ``z`` (hand derivatives of the laws)."""
+        return self._system(z, {n: x[i] for i, (n, _) in enumerate(self.states)}, u)
+
+    def _system(self, z: np.ndarray, q: dict, u: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """:meth:`system` with the storage quantities ``q`` given by element name."""
         B = self.B
         e, f = z[:B], z[B:]
         r = np.zeros(2 * B)
         J = np.zeros((2 * B, 2 * B))
         row = [0]
-        q = {n: x[i] for i, (n, _) in enumerate(self.states)}
         uu = dict(zip(self.inputs, u))
 
         def eq(value: float, coeffs: dict) -> None:
@@ -190,9 +193,9 @@ class DAEReference:
                 name = ONE_WAY.get(el.law, el.law)
                 law = LAWS.get((kind, name))
                 if kind == "I":
-                    eq(f[k] - law(x[self._index[el.name]], *P), {B + k: 1.0})
+                    eq(f[k] - law(q[el.name], *P), {B + k: 1.0})
                 elif kind == "C":
-                    eq(e[k] - law(x[self._index[el.name]], *P), {k: 1.0})
+                    eq(e[k] - law(q[el.name], *P), {k: 1.0})
                 elif kind == "R" and name == "orifice":
                     eq(f[k] - law(e[k], *P), {B + k: 1.0, k: -SLOPES[name](e[k], *P)})
                 elif kind == "R":
@@ -244,6 +247,10 @@ class DAEReference:
         e, fl = z[:self.B], z[self.B:]
         return np.array([e[k] if self.els[n].kind == "I" else fl[k] for n, k in self.states])
 
+    def f_at(self, t: float, x: Sequence[float]) -> np.ndarray:
+        """``x'`` at time ``t`` (the inputs from their time law)."""
+        return self.f(x, self.u_of_t(t))
+
     def jacobians(self, x: Sequence[float], u: Sequence[float], h: float = 1e-6
                   ) -> tuple[np.ndarray, np.ndarray]:
         """``df/dx`` and ``df/du`` by central differences (steps ``h max(1, |v|)``)."""
@@ -271,9 +278,7 @@ class DAEReference:
     def simulate(self, t_end: float, t_eval: np.ndarray, x0: Sequence[float],
                  rtol: float = 1e-10, atol: float = 1e-12) -> np.ndarray:
         """States at ``t_eval`` (rows), integrated with LSODA (Adams / BDF multistep)."""
-        def rhs(t, x):
-            return self.f(x, self.u_of_t(t))
-        sol = solve_ivp(rhs, (0.0, t_end), np.asarray(x0, dtype=float), method="LSODA",
+        sol = solve_ivp(self.f_at, (0.0, t_end), np.asarray(x0, dtype=float), method="LSODA",
                         t_eval=t_eval, rtol=rtol, atol=atol)
         if not sol.success:
             raise ReferenceError_(f"integration failed: {sol.message}")
