@@ -39,12 +39,13 @@ from typing import ClassVar, Mapping
 
 import sympy
 
+from ..elements import Port
 from ..errors import ModelStructureError
 from ..graph import BondGraph
 from .._support.sympify import ParameterLike
 from ._twoport import positive_parameter
 
-__all__ = ["Component", "CATALOGUE", "components"]
+__all__ = ["Component", "SourceComponent", "CATALOGUE", "components"]
 
 #: every concrete component class, by its qualified name (``'hydraulic.Orifice'``)
 CATALOGUE: dict[str, type["Component"]] = {}
@@ -84,6 +85,33 @@ class Component(BondGraph):
         """A positive parameter, defaulting to the symbol ``<name>_<what>``."""
         return positive_parameter(value, sympy.Symbol(f"{self.name}_{what}", positive=True),
                                   owner=f"{type(self).__name__} {self.name!r}", what=what)
+
+
+class SourceComponent(Component):
+    """Base of the one-port sources: the source ``source(inner, value=value)`` at port ``p``.
+
+    Subclasses set ``source`` (``Se`` or ``Sf``), ``inner`` (the source element's name,
+    which names the model's input ``<name>.<inner>`` when no value is given) and the
+    catalogue's class variables.
+
+    Examples
+    --------
+    >>> from bondgraph.library.electrical import VoltageSource
+    >>> VoltageSource("vs", value=5)["v"].value, VoltageSource("vs").ports
+    (5, ('p',))
+    """
+
+    port_names: tuple[str, ...] = ("p",)
+    source: ClassVar[type]
+    inner: ClassVar[str]
+
+    def __init__(self, name: str, *, value: ParameterLike = None) -> None:
+        self._value = value
+        super().__init__(name)
+
+    def build(self) -> None:
+        self.add(self.source(self.inner, value=self._value), Port("p"))
+        self.connect(self.inner, "p")
 
 
 def components(domain: str = "") -> tuple[type[Component], ...]:

@@ -30,7 +30,7 @@ from typing import ClassVar
 
 from ..elements import C, I, One, Port, R, Se, Sf, TF
 from .._support.sympify import ParameterLike
-from ._component import Component
+from ._component import Component, SourceComponent
 
 __all__ = ["Resistor", "Capacitor", "Inductor", "VoltageSource", "CurrentSource", "Ground",
            "Transformer"]
@@ -122,7 +122,7 @@ class Inductor(_TwoTerminal):
         return I("L", value)
 
 
-class VoltageSource(Component):
+class VoltageSource(SourceComponent):
     """An ideal voltage source at port ``p``: the input ``v`` (named ``<name>.v`` in the
     model's inputs), or ``value``.
 
@@ -133,22 +133,15 @@ class VoltageSource(Component):
     """
 
     domain = "electrical"
-    port_names = ("p",)
     port_domains = {"p": "electrical"}
     law = "v = v_s (an effort source)"
     reference = _KMR
     symbol = "Se"
-
-    def __init__(self, name: str, *, value: ParameterLike = None) -> None:
-        self._value = value
-        super().__init__(name)
-
-    def build(self) -> None:
-        self.add(Se("v", value=self._value), Port("p"))
-        self.connect("v", "p")
+    source = Se
+    inner = "v"
 
 
-class CurrentSource(Component):
+class CurrentSource(SourceComponent):
     """An ideal current source out of port ``p``: the input ``i``, or ``value``.
 
     Examples
@@ -158,19 +151,12 @@ class CurrentSource(Component):
     """
 
     domain = "electrical"
-    port_names = ("p",)
     port_domains = {"p": "electrical"}
     law = "i = i_s (a flow source)"
     reference = _KMR
     symbol = "Sf"
-
-    def __init__(self, name: str, *, value: ParameterLike = None) -> None:
-        self._value = value
-        super().__init__(name)
-
-    def build(self) -> None:
-        self.add(Sf("i", value=self._value), Port("p"))
-        self.connect("i", "p")
+    source = Sf
+    inner = "i"
 
 
 class Ground(Component):

@@ -31,7 +31,7 @@ import sympy
 from ..elements import C, I, One, Port, R, Se, Sf, TF, Zero
 from ..signals import displacement, e as E_VAR, f as F_VAR, q as Q_VAR
 from .._support.sympify import ParameterLike
-from ._component import Component
+from ._component import Component, SourceComponent
 
 __all__ = ["Orifice", "Pipe", "LaminarRestriction", "Accumulator", "GravityTank", "Cylinder", "ProportionalValve",
            "PressureSource", "FlowSource", "Tank", "orifice_flow", "orifice_drop"]
@@ -321,7 +321,7 @@ class ProportionalValve(_Restriction):
         self.connect("x", "no_force")
 
 
-class PressureSource(Component):
+class PressureSource(SourceComponent):
     """A pump or supply at a prescribed pressure at port ``p``: the input ``P``, or ``value``.
 
     Examples
@@ -331,22 +331,15 @@ class PressureSource(Component):
     """
 
     domain = "hydraulic"
-    port_names = ("p",)
     port_domains = {"p": "hydraulic"}
     law = "p = P_s (an effort source)"
     reference = _MER
     symbol = "Se"
-
-    def __init__(self, name: str, *, value: ParameterLike = None) -> None:
-        self._value = value
-        super().__init__(name)
-
-    def build(self) -> None:
-        self.add(Se("P", value=self._value), Port("p"))
-        self.connect("P", "p")
+    source = Se
+    inner = "P"
 
 
-class FlowSource(Component):
+class FlowSource(SourceComponent):
     """A fixed-displacement pump: a prescribed flow out of port ``p`` (input ``Q`` or ``value``).
 
     Examples
@@ -356,19 +349,12 @@ class FlowSource(Component):
     """
 
     domain = "hydraulic"
-    port_names = ("p",)
     port_domains = {"p": "hydraulic"}
     law = "Q = Q_s (a flow source)"
     reference = _MER
     symbol = "Sf"
-
-    def __init__(self, name: str, *, value: ParameterLike = None) -> None:
-        self._value = value
-        super().__init__(name)
-
-    def build(self) -> None:
-        self.add(Sf("Q", value=self._value), Port("p"))
-        self.connect("Q", "p")
+    source = Sf
+    inner = "Q"
 
 
 class Tank(Component):

@@ -34,7 +34,7 @@ from typing import ClassVar
 
 from ..elements import C, I, Port, R, Se, Sf, TF, Zero
 from .._support.sympify import ParameterLike
-from ._component import Component
+from ._component import Component, SourceComponent
 
 __all__ = ["Mass", "Spring", "Damper", "ForceSource", "VelocitySource", "Fixed", "Inertia",
            "TorsionSpring", "RotaryDamper", "TorqueSource", "Gear", "Lever", "RackPinion", "Belt"]
@@ -194,19 +194,10 @@ class RotaryDamper(Damper):
     law = "tau = b (omega_a - omega_b)"
 
 
-class _Source(Component):
-    port_names: tuple[str, ...] = ("p",)
+class _Source(SourceComponent):
     reference: ClassVar[str] = _KMR
     source: ClassVar[type] = Se
     inner: ClassVar[str] = "F"
-
-    def __init__(self, name: str, *, value: ParameterLike = None) -> None:
-        self._value = value
-        super().__init__(name)
-
-    def build(self) -> None:
-        self.add(self.source(self.inner, value=self._value), Port("p"))
-        self.connect(self.inner, "p")
 
 
 class ForceSource(_Source):

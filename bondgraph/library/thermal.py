@@ -34,7 +34,7 @@ from typing import ClassVar
 
 from ..elements import C, One, Port, R, Se, Sf
 from .._support.sympify import ParameterLike
-from ._component import Component
+from ._component import Component, SourceComponent
 from ._thermal_elements import (RS, SIGMA_SB, STEFAN_BOLTZMANN, EntropyCapacity, HeatConduction,
                                 Radiation)
 
@@ -184,7 +184,7 @@ class RadiationExchange(Component):
         self.connect("rad", "b")
 
 
-class HeatFlowSource(Component):
+class HeatFlowSource(SourceComponent):
     """A prescribed heat flow ``Q`` (W) out of port ``p``: the input ``<name>.Q``, or ``value``.
 
     Examples
@@ -194,22 +194,15 @@ class HeatFlowSource(Component):
     """
 
     domain = "thermal"
-    port_names = ("p",)
     port_domains = {"p": "thermal"}
     law = "Q = Q_s (a flow source)"
     reference = _KMR
     symbol = "Sf"
-
-    def __init__(self, name: str, *, value: ParameterLike = None) -> None:
-        self._value = value
-        super().__init__(name)
-
-    def build(self) -> None:
-        self.add(Sf("Q", value=self._value), Port("p"))
-        self.connect("Q", "p")
+    source = Sf
+    inner = "Q"
 
 
-class TemperatureSource(Component):
+class TemperatureSource(SourceComponent):
     """A prescribed temperature ``T`` (K) at port ``p`` (an ambient, a thermostat).
 
     The input ``<name>.T``, or ``value``.  Serves pseudo and true thermal graphs.
@@ -221,19 +214,12 @@ class TemperatureSource(Component):
     """
 
     domain = "thermal"
-    port_names = ("p",)
     port_domains = {"p": "thermal"}
     law = "T = T_s (an effort source)"
     reference = _KMR
     symbol = "Se"
-
-    def __init__(self, name: str, *, value: ParameterLike = None) -> None:
-        self._value = value
-        super().__init__(name)
-
-    def build(self) -> None:
-        self.add(Se("T", value=self._value), Port("p"))
-        self.connect("T", "p")
+    source = Se
+    inner = "T"
 
 
 class EntropyStore(Component):
