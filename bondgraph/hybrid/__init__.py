@@ -1,8 +1,9 @@
 """Switched (hybrid) bond graphs: ideal switches, diodes, controlled switches and their modes.
 
-A switch (:class:`Switch`, :class:`Diode`, :class:`ControlledSwitch`) is an
-element of the protocol: on, it is a zero-effort source; off, a zero-flow
-source.  A :class:`SwitchedModel` derives one ordinary
+A switch (:class:`Switch`, :class:`Diode`, :class:`ControlledSwitch`, the
+contact laws :class:`Contact` and :class:`Slip`) is an element of the
+protocol: on, it is an effort source (zero but for a slipping friction);
+off, a zero-flow source.  A :class:`SwitchedModel` derives one ordinary
 :class:`~bondgraph.Model` per mode (lazily, cached); :func:`simulate` runs
 it with events (guards from diode flows and efforts and from gates) and
 re-initialises the state when a mode change removes states; :func:`average`
@@ -23,6 +24,7 @@ Examples
 """
 
 from .elements import ControlledSwitch, Diode, Switch, SwitchElement, pwm
+from .contact import Contact, Slip
 from .junctions import SwitchedOne, SwitchedZero
 from .errors import ChatteringError, EventBudgetError, HybridError, ModeError
 from .modes import Mode, ModeModel, ModeSet
@@ -31,7 +33,8 @@ from .events import SwitchEvent, SwitchedResult, simulate
 from .averaging import average
 
 __all__ = [
-    "SwitchElement", "Switch", "Diode", "ControlledSwitch", "pwm", "SwitchedZero", "SwitchedOne",
+    "SwitchElement", "Switch", "Diode", "ControlledSwitch", "pwm", "Contact", "Slip",
+    "SwitchedZero", "SwitchedOne",
     "Mode", "ModeModel", "ModeSet", "SwitchedModel", "derive_switched",
     "simulate", "SwitchedResult", "SwitchEvent", "average",
     "HybridError", "ModeError", "ChatteringError", "EventBudgetError",

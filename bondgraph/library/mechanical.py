@@ -37,7 +37,8 @@ from .._support.sympify import ParameterLike
 from ._component import Component, SourceComponent
 
 __all__ = ["Mass", "Spring", "Damper", "ForceSource", "VelocitySource", "Fixed", "Inertia",
-           "TorsionSpring", "RotaryDamper", "TorqueSource", "Gear", "Lever", "RackPinion", "Belt"]
+           "TorsionSpring", "RotaryDamper", "TorqueSource", "Gear", "Lever", "RackPinion", "Belt",
+           "UnilateralContact", "Friction", "FrictionClutch"]
 
 _KMR = "Karnopp, Margolis and Rosenberg, System Dynamics, 5th ed., Ch. 3 and 4"
 
@@ -398,3 +399,187 @@ class Belt(_Transmission):
         self._modulus = (self.param(self._radii[0], "radius_a") /
                          self.param(self._radii[1], "radius_b"))
         super().build()
+
+
+# ----------------------------------------------------------------------------- switched contacts
+_HYBRID = ("Mosterman and Biswas, hybrid bond graphs (ideal switches); Karnopp, 'Computer "
+           "simulation of stick-slip friction in mechanical dynamic systems', ASME J. Dyn. Sys. "
+           "Meas. Control 107 (1985)")
+
+
+class UnilateralContact(Component):
+    """A spring and damper that push and never pull: a unilateral contact between ``a`` and ``b``.
+
+    Closed, the force is ``F = k x + b v`` (``x`` the compression of the
+    contact spring, ``v = v_a - v_b``); the contact opens when that force
+    falls through zero -- while a damped spring is still compressed -- and
+    closes again when the gap ``clearance - (x_a - x_b) + x`` falls to zero
+    (the spring relaxes through the damper meanwhile, ``k x + b x' = 0``).
+    Built from the switch :class:`bondgraph.hybrid.Contact` (named
+    ``<name>.K``) in series with the spring ``<name>.C`` and damper
+    ``<name>.R``, so the component makes a switched model
+    (:class:`bondgraph.hybrid.SwitchedModel`); compare the position gate
+    :func:`bondgraph.hybrid.library.end_stop`, which pulls while the body
+    leaves.
+
+    Parameters
+    ----------
+    name : str
+    stiffness, damping : keyword-only
+        ``k`` and ``b``; ``damping=0``: an elastic contact (no damper).
+    clearance : keyword-only
+        The gap at ``t = 0`` (default 0, touching).
+    grounded : bool, keyword-only
+        ``b`` is the ground: one port ``a``.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> from bondgraph.hybrid import SwitchedModel
+    >>> g = bg.BondGraph("drop")
+    >>> g.add(Mass("m", mass="m"), bg.One("v"),
+    ...       UnilateralContact("stop", stiffness="k", damping="b", clearance="h", grounded=True))
+    >>> _ = g.connect("v", "m.p"); _ = g.connect("v", "stop.a")
+    >>> sm = SwitchedModel(g)
+    >>> closed, opened = sm.mode(off={"stop.K"}), sm.mode(on={"stop.K"})
+    >>> closed.state_names, closed.rhs[:2]     # the mass on the spring and damper
+    (('p_m.I', 'q_stop.C', 'hyb_S0'), (-b*p_m.I/m - k*q_stop.C, p_m.I/m))
+    >>> opened.rhs[:2]                         # the spring relaxes through the damper
+    (0, -k*q_stop.C/b)
+    """
+
+    domain = "translation"
+    port_names = ("a", "b")
+    port_domains = {"a": "translation", "b": "translation"}
+    law = "closed: F = k x + b v >= 0, gap = 0;  open: F = 0, gap >= 0"
+    reference = _HYBRID
+    symbol = "Ct"
+
+    def __init__(self, name: str, *, stiffness: ParameterLike = None, damping: ParameterLike = None,
+                 clearance: ParameterLike = 0, grounded: bool = False) -> None:
+        self._values = (stiffness, damping, clearance)
+        self._grounded = grounded
+        super().__init__(name)
+
+    def build(self) -> None:
+        from ..elements import One
+        from ..hybrid.contact import Contact
+
+        stiffness, damping, clearance = self._values
+        elastic = isinstance(damping, (int, float)) and not isinstance(damping, bool) and damping == 0
+        parts = [Port("a"), Zero("F"), Contact("K", clearance=clearance), One("x"),
+                 C("C", stiffness=self.param(stiffness, "stiffness"))]
+        if not elastic:
+            parts.append(R("R", self.param(damping, "damping")))
+        if not self._grounded:
+            parts.append(Port("b"))
+        self.add(*parts)
+        for tail, head in [("a", "F"), ("F", "K"), ("F", "x"), ("x", "C")] + \
+                ([] if elastic else [("x", "R")]) + ([] if self._grounded else [("F", "b")]):
+            self.connect(tail, head)
+        if self._grounded:
+            self.port_names = ("a",)
+
+
+class _FrictionContact(Component):
+    """Karnopp friction on the 0-junction of the slip velocity ``v_a - v_b`` (see subclasses)."""
+
+    reference: ClassVar[str] = _HYBRID
+    symbol: ClassVar[str] = "Slip"
+    law: ClassVar[str] = ""
+
+    def __init__(self, name: str, kinetic: ParameterLike, static: ParameterLike,
+                 grounded: bool) -> None:
+        self._values = (kinetic, static)
+        self._grounded = grounded
+        super().__init__(name)
+
+    def build(self) -> None:
+        from ..hybrid.contact import Slip
+
+        kinetic = self.param(self._values[0], "kinetic")
+        static = self.param(self._values[1], "static")
+        parts = [Port("a"), Zero("F"), Slip("fwd", kinetic=kinetic, static=static),
+                 Slip("rev", kinetic=kinetic, static=static, direction=-1)]
+        self.add(*parts, *([] if self._grounded else [Port("b")]))
+        for tail, head in [("a", "F"), ("F", "fwd"), ("F", "rev")] + \
+                ([] if self._grounded else [("F", "b")]):
+            self.connect(tail, head)
+        if self._grounded:
+            self.port_names = ("a",)
+
+
+class Friction(_FrictionContact):
+    """Karnopp stick-slip friction between ``a`` and ``b``: sticks while the force it must
+    hold stays within the static friction ``Fs``, slips with ``Fk sign(v_a - v_b)`` otherwise.
+
+    Two :class:`bondgraph.hybrid.Slip` switches (``<name>.fwd``, ``<name>.rev``)
+    on the 0-junction of the slip velocity; the component makes a switched
+    model with the modes stick (both off), slip forwards (``fwd`` on) and
+    slip backwards (``rev`` on).  ``grounded=True``: a body sliding on the
+    ground (one port ``a``).
+
+    Parameters
+    ----------
+    name : str
+    kinetic, static : keyword-only
+        The kinetic and static (breakaway) friction forces, ``static >= kinetic``.
+    grounded : bool, keyword-only
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> from bondgraph.hybrid import SwitchedModel
+    >>> g = bg.BondGraph("block")
+    >>> g.add(ForceSource("push"), Mass("m", mass="m"), bg.One("v"),
+    ...       Friction("table", kinetic="Fk", static="Fs", grounded=True))
+    >>> for t, h in [("push.p", "v"), ("v", "m.p"), ("v", "table.a")]: _ = g.connect(t, h)
+    >>> sm = SwitchedModel(g)
+    >>> sm.mode(on={"table.fwd"}).rhs, sm.mode().state_names
+    ((-Fk + push.F,), ())
+    """
+
+    domain = "translation"
+    port_names = ("a", "b")
+    port_domains = {"a": "translation", "b": "translation"}
+    law = "stick: v_a = v_b while |F| <= Fs;  slip: F = Fk sign(v_a - v_b)"
+
+    def __init__(self, name: str, *, kinetic: ParameterLike = None, static: ParameterLike = None,
+                 grounded: bool = False) -> None:
+        super().__init__(name, kinetic, static, grounded)
+
+
+class FrictionClutch(_FrictionContact):
+    """A friction clutch between shafts ``a`` and ``b`` (Karnopp): locked while the torque it
+    must transmit stays within ``Ts``, slipping with ``Tk sign(omega_a - omega_b)`` otherwise.
+
+    The rotary :class:`Friction`: two :class:`bondgraph.hybrid.Slip` switches
+    (``<name>.fwd``, ``<name>.rev``) on the 0-junction of the slip speed.
+
+    Parameters
+    ----------
+    name : str
+    kinetic, static : keyword-only
+        The kinetic and static friction torques, ``static >= kinetic``.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> from bondgraph.hybrid import SwitchedModel
+    >>> g = bg.BondGraph("drive")
+    >>> g.add(TorqueSource("motor"), Inertia("J1", inertia="J1"), Inertia("J2", inertia="J2"),
+    ...       FrictionClutch("K", kinetic="Tk", static="Ts"), bg.One("w1"), bg.One("w2"))
+    >>> for t, h in [("motor.p", "w1"), ("w1", "J1.p"), ("w1", "K.a"), ("K.b", "w2"),
+    ...              ("w2", "J2.p")]: _ = g.connect(t, h)
+    >>> SwitchedModel(g).mode().rhs       # locked: both shafts turn together
+    (J1*motor.tau/(J1 + J2),)
+    """
+
+    domain = "rotation"
+    port_names = ("a", "b")
+    port_domains = {"a": "rotation", "b": "rotation"}
+    law = "stick: omega_a = omega_b while |tau| <= Ts;  slip: tau = Tk sign(omega_a - omega_b)"
+
+    def __init__(self, name: str, *, kinetic: ParameterLike = None,
+                 static: ParameterLike = None) -> None:
+        super().__init__(name, kinetic, static, False)
