@@ -13,9 +13,9 @@ points into the element, its flow positive into it:
     closing velocity, its time integral ``displacement(name)`` the closing
     travel, so the gap is ``clearance - displacement(name)``.  **Open** (on,
     zero force) while the gap is ``>= 0``; **closed** (off, zero closing
-    velocity) while the force is ``>= 0`` and the gap closed.  It closes when
-    the gap reaches zero and opens when its force falls through zero: a
-    spring and damper behind it push and never pull.
+    velocity, the gap frozen at zero) while the force is ``>= 0``.  It closes
+    when the gap falls through zero and opens when its force falls through
+    zero: a spring and damper behind it push and never pull.
 :class:`Slip`, one direction of slip of a Karnopp friction contact
     The effort is the friction force or torque, the flow the slip velocity.
     **Slipping** (on) it is the kinetic friction ``direction*kinetic``, while
@@ -32,7 +32,7 @@ Examples
 >>> k.label(), k.on, k.guard(True)
 ('Ct:K', True, 0.25 - displacement[K])
 >>> k.guard(False)
-Min(effort[K], displacement[K] - 0.25)
+effort[K]
 >>> s = Slip("Kf", kinetic="Tk", static="Ts")
 >>> s.guard(True), s.guard(False)
 (flow[Kf], -effort[Kf] + Ts)
@@ -145,15 +145,20 @@ class Contact(_ContactSwitch, SwitchElement):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        object.__setattr__(self, "clearance", _constant(self, self.clearance, "clearance"))
+        clearance = _constant(self, self.clearance, "clearance")
+        if not self.on and clearance.is_number and clearance > 0:
+            # closed, the gap is frozen and only the force is watched: it must start closed
+            raise ParameterError(f"{self.label()}: built closed (on=False) with a clearance of "
+                                 f"{clearance}: a contact closes at zero gap; build it open "
+                                 "(on=True) or with clearance=0")
+        object.__setattr__(self, "clearance", clearance)
 
     def gap(self) -> sympy.Expr:
         """The gap, ``clearance - displacement(name)`` (>= 0 while open)."""
         return cast(sympy.Expr, self.clearance) - displacement(self.name)
 
     def guard(self, on: bool) -> Optional[sympy.Expr]:
-        # closed: the force must push and the gap be closed (a contact never closes at a distance)
-        return self.gap() if on else sympy.Min(effort(self.name), -self.gap())
+        return self.gap() if on else effort(self.name)
 
     def state_text(self, on: bool) -> str:
         return "open (no force)" if on else "closed (no closing velocity)"
