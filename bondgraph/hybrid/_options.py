@@ -9,8 +9,8 @@ Examples
 >>> opts = check_options((0, 1), t_eval=None, method="RK45", rtol=1e-9, atol=1e-12, max_step=None,
 ...                      guard_tol=1e-9, max_events=10, time_budget=None, chatter_count=20,
 ...                      chatter_time=None)
->>> opts.t0, opts.t1, opts.chatter_time
-(0.0, 1.0, 1e-06)
+>>> opts.t0, opts.t1, opts.max_step
+(0.0, 1.0, inf)
 >>> check_options((0, 1, 2), t_eval=None, method="RK45", rtol=1e-9, atol=1e-12, max_step=None,
 ...               guard_tol=1e-9, max_events=10, time_budget=None, chatter_count=20,
 ...               chatter_time=None)
@@ -53,7 +53,8 @@ class Options:
     max_events: int
     time_budget: Optional[float]
     chatter_count: int
-    chatter_time: float
+    #: None: ``1e-6*(t1 - t0)``, and below a thousandth of every gate's period
+    chatter_time: Optional[float]
 
 
 def number(value: Any, what: str, *, low: Optional[float] = None, strict: bool = False,
@@ -108,7 +109,7 @@ def check_options(t_span, *, t_eval, method, rtol, atol, max_step, guard_tol, ma
                                                      allow_inf=True)
     tol = number(guard_tol, "guard_tol", low=0.0)
     budget = None if time_budget is None else number(time_budget, "time_budget", low=0.0, strict=True)
-    span = 1e-6 * (t1 - t0) if chatter_time is None else number(chatter_time, "chatter_time", low=0.0)
+    span = None if chatter_time is None else number(chatter_time, "chatter_time", low=0.0)
     return Options(t0, t1, evals, method, rtol_, atol_, step, tol, _integer(max_events, "max_events", 0),
                    budget, _integer(chatter_count, "chatter_count", 1), span)
 

@@ -16,11 +16,10 @@ from typing import Any, Callable, Mapping, Optional
 import numpy as np
 import sympy
 
-from .._support.sympify import parameter_symbols
 from ..parameters import match_values, real_value
 from ..signals import Signal
 from ..signals import t as T_SYM
-from ._numeric import CompiledMode, EnergyMetric, integrated
+from ._numeric import CompiledMode, EnergyMetric, integrated, nonfinite, periods
 from ._options import Clock, Options, checked_input
 from ._segment import integrate, next_time_event, periodic_falls
 from .errors import ChatteringError, EventBudgetError, HybridError, ModeError
@@ -29,7 +28,6 @@ from .modes import Mode, ModeSet
 
 __all__ = ["Run"]
 
-_NONFINITE = (sympy.zoo, sympy.nan, sympy.oo, -sympy.oo)
 #: most events at one instant that leave the mode as it was
 _SAME_INSTANT = 100
 
@@ -105,63 +103,21 @@ class Run:
                     labels[k] = ex.name
         self.labels = tuple(labels)
         self._falls: dict = {}
+        self.chatter_time = opts.chatter_time
+        if self.chatter_time is None:
+            self.chatter_time = min([1e-6 * (opts.t1 - opts.t0)] + [1e-3 * p for p in self.periods.values()])
 
     # ------------------------------------------------------------ checks of the numbers
     def _check_finite(self, modes, fulls) -> None:
         """Every mode's equations and guards finite with the values, else the culprit named."""
-        sm = self.sm
-        for mode, full in zip(modes, fulls):
-            groups = [("equations", e) for e in full.rhs] + [("outputs", e) for e in full.output_exprs]
-            for n in sm.switches:
-                g = sm.element(n).guard(mode.is_on(n))
-                if g is not None:
-                    groups.append((f"gate of switch {n!r}", g))
-            for what, expr in groups:
-                val = expr.xreplace(self.subs)
-                if val.has(*_NONFINITE):
-                    raise HybridError(f"model {sm.name!r}: the {what} of mode ({mode}) are not "
-                                      f"finite with these values{self._culprits(expr)}")
-        qs, H = sm.energy()
-        if H.xreplace(self.subs).has(*_NONFINITE):
-            raise HybridError(f"model {sm.name!r}: the stored energy is not finite with these "
-                              f"values{self._culprits(H, storage=True)}")
-
-    def _culprits(self, expr: sympy.Expr, storage: bool = False) -> str:
-        zero = {s.name for s in expr.free_symbols if s in self.subs and self.subs[s] == 0}
-        if not zero:
-            zero = {name for name, v in self.values.items() if v == 0}
-        found = []
-        for el in self.sm.flat.elements:
-            hit = sorted({p.name for p in parameter_symbols(el)} & zero)
-            if hit and (not storage or el.energy_signals()):
-                found.append(f"{el.label()} has {', '.join(f'{h} = 0' for h in hit)}")
-        for n in self.sm.switches:
-            el = self.sm.element(n)
-            for what in ("gate", "period"):
-                ex = getattr(el, what, None)
-                hit = sorted({s.name for s in getattr(ex, "free_symbols", ())} & zero)
-                if hit and not any(el.label() in f for f in found):
-                    found.append(f"the {what} of switch {n!r} has {', '.join(f'{h} = 0' for h in hit)}")
-        if not found:
-            return ""
-        return ": " + "; ".join(found) + " (a storage parameter or period must be nonzero)"
+        why = nonfinite(self.sm, modes, fulls, self.subs)
+        if why:
+            raise HybridError(why)
 
     def _periods(self) -> dict:
-        out = {}
-        for n in self.sm.switches:
-            p = getattr(self.sm.element(n), "period", None)
-            if p is None:
-                continue
-            val = p.xreplace(self.subs)
-            try:
-                v = float(val)
-            except (TypeError, ValueError):
-                raise HybridError(f"model {self.sm.name!r}: the period of switch {n!r} is {val}, "
-                                  "not a number") from None
-            if not (math.isfinite(v) and v > 0):
-                raise HybridError(f"model {self.sm.name!r}: the period of switch {n!r} ({p} = {v:g}) "
-                                  "must be a finite positive number")
-            out[n] = v
+        out, why = periods(self.sm, self.subs)
+        if why:
+            raise HybridError(why)
         return out
 
     # ------------------------------------------------------------ numbers
@@ -241,6 +197,7 @@ class Run:
                     if why:
                         tried.append((mode, why))
                         continue
+                    loss = self.metric.energy(q_ref) - self.metric.energy(q_new)
                 g = cm.guard_values(t, x, u)
                 bad = [n for n in check if n in g and not g[n] >= -self.guard_tol]
                 if bad:
@@ -249,7 +206,7 @@ class Run:
                 leaving = self._leaving(cm, t, x, u, g, tuple(check) + tuple(trigger or ()))
                 jumped = self._jumped(q_ref, q_new)
                 cands.append(((bool(leaving), jumped, k, abs(loss)), mode, cm, x, q_new, loss,
-                              jumped, leaving))
+                              jumped, leaving, q_ref))
         where = f"at t = {t:.9g}"
         if not cands:
             text = "; ".join(f"mode ({m}) {why}" for m, why in tried)
@@ -260,7 +217,7 @@ class Run:
                     time=t, element=trigger[0])
             raise ModeError(f"model {self.sm.name!r}: no consistent mode {where}: {text}")
         best = min(cands, key=lambda c: c[0])
-        _, mode, cm, x, q_new, loss, jumped, leaving = best
+        _, mode, cm, x, q_new, loss, jumped, leaving, self.q_ref = best
         if leaving:
             name = next((n for n in (trigger or ()) if n in leaving), leaving[0])
             raise ChatteringError(
@@ -339,7 +296,7 @@ class Run:
         rec.point(cm, o.t0, x)
         events: list[SwitchEvent] = []
         if jumped or mode != sm.initial:
-            events.append(self.event(o.t0, (), sm.initial, mode, q, q_new, loss))
+            events.append(self.event(o.t0, (), sm.initial, mode, self.q_ref, q_new, loss))
         clock = Clock(o.time_budget, sm.name)
         check_clock = (lambda tt: clock.check(tt, lambda: rec.result(events))) \
             if o.time_budget is not None else (lambda tt: None)
@@ -389,7 +346,7 @@ class Run:
                 if new_mode.is_on(n) != mode.is_on(n):
                     times = recent[n]
                     times.append(te)
-                    if len(times) == o.chatter_count and te - times[0] <= o.chatter_time:
+                    if len(times) == o.chatter_count and te - times[0] <= self.chatter_time:
                         raise ChatteringError(
                             f"model {sm.name!r}: switch {n!r} chatters: {o.chatter_count} changes "
                             f"within {te - times[0]:.3g} s up to t = {te:.9g} (a sliding mode: its "

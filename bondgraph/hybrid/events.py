@@ -158,7 +158,8 @@ def simulate(sm: ModeSet, t_span: Sequence[float], x0: Optional[Mapping[str, flo
         Wall-time budget in seconds, checked at every step.
     chatter_count, chatter_time
         Chattering: one switch changing state ``chatter_count`` (``>= 1``) times within
-        ``chatter_time`` (default ``1e-6*(t1 - t0)``).
+        ``chatter_time`` (default ``1e-6*(t1 - t0)``, and at most a thousandth of
+        every switch's ``period``).
 
     Returns
     -------
