@@ -31,13 +31,14 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+import warnings
 from dataclasses import dataclass
 from typing import Any, Iterable, Mapping, Optional, Union, cast
 
 import sympy
 
 from ..model import derive
-from ..errors import AlgebraicLoopError, CausalityError, OutputError
+from ..errors import AlgebraicLoopError, BondGraphWarning, CausalityError, OutputError
 from ..flatten import FlatGraph, flatten
 from ..graph import BondGraph
 from ..model import Model
@@ -144,6 +145,7 @@ class ModeSet:
         if not self.switches:
             raise ModeError(f"model {flat.name!r} has no switch element (Switch, Diode, "
                             "ControlledSwitch from bondgraph.hybrid); derive it with bondgraph.derive")
+        _warn_reversed_diodes(flat, self.switches)
         self.user_outputs: dict = dict(outputs or {})
         for name in self.user_outputs:
             if isinstance(name, str) and name.startswith(("hyb_E", "hyb_S")):
@@ -308,6 +310,23 @@ class ModeSet:
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}({self.name!r}, switches={self.switches})"
+
+
+def _warn_reversed_diodes(flat: FlatGraph, switches: Iterable[str]) -> None:
+    """A :class:`~bondgraph.BondGraphWarning` for each diode bonded away from itself."""
+    for name in switches:
+        el = flat.element(name)
+        if not getattr(el, "self_switched", False):
+            continue
+        for b in flat.incidence.get(name, ()):
+            bond = flat.bonds[b]
+            if bond.tail == name:
+                warnings.warn(
+                    f"diode {name!r} is bonded away from itself ({name} -> {bond.head}): it conducts "
+                    f"while the flow from {name} into {bond.head} is >= 0 and blocks while its effort "
+                    f"is <= 0 on that bond, the reverse of a diode bonded {bond.head} -> {name}; "
+                    f"bond it {bond.head} -> {name} for the usual direction (forward flow into the "
+                    "diode)", BondGraphWarning, stacklevel=4)
 
 
 def _names(names: Iterable[str], what: str) -> frozenset:
