@@ -121,10 +121,15 @@ def block_by_hand():
     te1 = brentq(v_fwd, grid[j - 1], grid[j], xtol=1e-15)
     assert abs(F0 * math.sin(OMEGA * te1)) < FS        # it sticks when the slip stops
 
+    assert te1 < ts1 + 0.5                             # it sticks before slipping back
+
     def v(t):
-        half, r = divmod(t, 0.5)                       # v(t + 1/2) = -v(t): the mirror image
-        sign = -1 if int(half) % 2 else 1
-        return sign * v_fwd(r) if ts1 < r < te1 else 0.0
+        """Period 1 s, and the mirror image half a period later: v(t + 1/2) = -v(t)."""
+        if ts1 < t % 1.0 < te1:
+            return v_fwd(t % 1.0)
+        if t >= 0.5 and ts1 < (t - 0.5) % 1.0 < te1:
+            return -v_fwd((t - 0.5) % 1.0)
+        return 0.0
     return ts1, te1, v
 
 
@@ -148,7 +153,7 @@ def test_block_on_a_table_sticks_and_slips_both_ways_at_the_hand_instants():
                        (1.0, "table.fwd on, table.rev off")):
         expected += [(base + ts1, slip), (base + te1, "table.fwd off, table.rev off")]
     got = [(e.time, str(e.after)) for e in res.events]
-    assert got == [pytest.approx(e, abs=1e-9) for e in expected[:len(got)]] and len(got) == 6
+    assert got == [pytest.approx(e, abs=1e-9) for e in expected[:5]]       # the sixth is at 1.56 s
     on_grid = np.isin(res.t, samples)
     assert res.outputs["v"][on_grid] == pytest.approx([v(t) for t in res.t[on_grid]], abs=1e-9)
     # stuck, the table holds the whole push; slipping, it carries Fk against the motion
