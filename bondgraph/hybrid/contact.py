@@ -48,7 +48,7 @@ from typing import TYPE_CHECKING, ClassVar, Optional, Sequence, cast
 import sympy
 
 from ..errors import ParameterError
-from ..elements.protocol import LocalVariables, rename
+from ..elements.protocol import LocalVariables
 from .._support.sympify import ParameterLike, to_expr
 from ..signals import Signal, displacement, effort, flow
 from ..signals import t as T_SYM
@@ -75,23 +75,13 @@ def _constant(el: SwitchElement, value: ParameterLike, what: str, *, time: bool 
 
 
 class _ContactSwitch:
-    """What the two contact switches share: a state change that keeps a sub-model path (no
-    re-validation of the name), and a warning when the bond points out of the element."""
+    """A warning when the element's bond points out of it (its laws hold for the bond into it)."""
 
     if TYPE_CHECKING:
         name: str
-        on: bool
         meaning: ClassVar[str]
 
         def label(self) -> str: ...
-
-    def in_state(self, on: bool) -> SwitchElement:
-        """A copy of the element in state ``on`` (its name may be a sub-model path)."""
-        if on == self.on:
-            return cast(SwitchElement, self)
-        el = rename(cast(SwitchElement, self), self.name)
-        object.__setattr__(el, "on", on)
-        return cast(SwitchElement, el)
 
     def bond_warnings(self, bonds: Sequence["Bond"]) -> tuple[str, ...]:
         (b,) = bonds

@@ -30,6 +30,14 @@ from bondgraph.library.mechanical import ForceSource, Friction, FrictionClutch, 
 
 TOL = {"rtol": 1e-10, "atol": 1e-12}
 
+
+def first_zero(f, t0, t1, n=4001):
+    """The first time in (t0, t1] at which f falls from > 0 to < 0 (grid, then brentq)."""
+    ts = np.linspace(t0, t1, n)
+    fv = np.array([f(t) for t in ts])
+    j = int(np.nonzero(fv < 0)[0][0])
+    return brentq(f, ts[j - 1], ts[j], xtol=1e-15)
+
 # ---------------------------------------------------------------- the clutch on a ramp torque
 J1, J2, A, TK, TS, W = 1.0, 2.0, 3.0, 1.0, 2.0, 2.0
 CLUTCH = {"J1": J1, "J2": J2, "a": A, "Tk": TK, "Ts": TS}
@@ -116,9 +124,7 @@ def block_by_hand():
 
     def v_fwd(t):
         return (F0 / OMEGA * (math.cos(OMEGA * ts1) - math.cos(OMEGA * t)) - FK * (t - ts1)) / M
-    grid = np.linspace(ts1 + 1e-6, 1.0, 4001)
-    j = int(np.nonzero(np.array([v_fwd(t) for t in grid]) < 0)[0][0])
-    te1 = brentq(v_fwd, grid[j - 1], grid[j], xtol=1e-15)
+    te1 = first_zero(v_fwd, ts1 + 1e-6, 1.0)
     assert abs(F0 * math.sin(OMEGA * te1)) < FS        # it sticks when the slip stops
 
     assert te1 < ts1 + 0.5                             # it sticks before slipping back
@@ -161,6 +167,32 @@ def test_block_on_a_table_sticks_and_slips_both_ways_at_the_hand_instants():
         slipping = v(t) != 0
         assert f == pytest.approx(FK * math.copysign(1, v(t)) if slipping else F0 * math.sin(OMEGA * t),
                                   abs=1e-9)
+
+
+def test_a_block_pushed_hard_reverses_its_slip_without_sticking():
+    # F0 = 2, Fk = 0.8: when the forward slip stops the push is already below -Fs, so the block
+    # slips straight back (both slip guards are zero at that instant; the backward one grows)
+    F0_, FK_ = 2.0, 0.8
+    ts1 = math.asin(FS / F0_) / OMEGA
+
+    def v_fwd(t):
+        return (F0_ / OMEGA * (math.cos(OMEGA * ts1) - math.cos(OMEGA * t)) - FK_ * (t - ts1)) / M
+    te1 = first_zero(v_fwd, ts1 + 1e-6, 1.0)
+    assert F0_ * math.sin(OMEGA * te1) < -FS
+
+    def v_back(t):
+        return (F0_ / OMEGA * (math.cos(OMEGA * te1) - math.cos(OMEGA * t)) + FK_ * (t - te1)) / M
+    te2 = first_zero(lambda t: -v_back(t), te1 + 1e-6, te1 + 1.0)
+    assert F0_ * math.sin(OMEGA * te2) > FS                    # and forwards again
+    samples = np.linspace(0, te2, 101)[1:-1]
+    res = bg.simulate(block_model(), {"m": M, "F0": F0_, "Fs": FS, "Fk": FK_, "w": OMEGA}, (0, te2 + 0.01),
+                      t_eval=samples, **TOL)
+    got = [(e.time, str(e.after)) for e in res.events]
+    assert got == [pytest.approx((ts1, "table.fwd on, table.rev off"), abs=1e-9),
+                   pytest.approx((te1, "table.fwd off, table.rev on"), abs=1e-9),
+                   pytest.approx((te2, "table.fwd on, table.rev off"), abs=1e-9)]
+    hand = [0.0 if t < ts1 else v_fwd(t) if t < te1 else v_back(t) for t in samples]
+    assert res.outputs["v"][np.isin(res.t, samples)] == pytest.approx(hand, abs=1e-9)
 
 
 def test_the_clutch_component_between_two_shafts_matches_the_hand_solution():
