@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import math
 import shutil
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -207,6 +209,17 @@ def test_the_clutch_component_between_two_shafts_matches_the_hand_solution():
     res = bg.simulate(sm, CLUTCH, (0, 1.5), {"p_J2.I": J2 * W}, **TOL)
     assert [e.time for e in res.events] == pytest.approx([0.0, t1, t2], abs=1e-9)
     assert (res.outputs["w1"][-1], res.outputs["w2"][-1]) == pytest.approx(w(1.5)[:2], abs=1e-8)
+
+
+def test_the_model_file_friction_clutch_is_the_hand_solution():
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "models"))
+    import clutch
+
+    assert clutch.KARNOPP == CLUTCH
+    t1, t2, w = clutch_by_hand()
+    res = bg.simulate(clutch.karnopp(), clutch.KARNOPP, (0, 2), {"p_J2": J2 * W}, **TOL)
+    assert [e.time for e in res.events] == pytest.approx([0.0, t1, t2], abs=1e-9)
+    assert [res.outputs[n][-1] for n in ("w1", "w2", "torque")] == pytest.approx(w(2.0), abs=1e-8)
 
 
 # ---------------------------------------------------------------- generated code
