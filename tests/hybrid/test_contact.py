@@ -125,7 +125,11 @@ def test_damped_contact_releases_at_zero_force_while_still_compressed():
                       **TOL)
     assert transitions(res) == [pytest.approx((t_in, "K off"), abs=1e-9),
                                 pytest.approx((t_out, "K on"), abs=1e-9)]
-    # it opens with the spring still compressed (x_r > 0), moving away at the hand exit velocity
+    # it opens with the spring still compressed (x_r > 0), moving away at the hand exit velocity;
+    # k x + b x' = 0 with x = (V0/wd) exp(-s t) sin(wd t) is also tan(wd t) = -b wd/(k - b s)
+    s = BD / (2 * M)
+    wd = math.sqrt(K / M - s * s)
+    assert t_out - t_in == pytest.approx((math.pi - math.atan(BD * wd / (K - BD * s))) / wd, abs=1e-12)
     assert xr > 0.01 and vr < 0
     k_out = list(res.t).index(res.events[1].time) + 1
     assert res.outputs["v"][k_out] == pytest.approx(vr, rel=1e-8)
