@@ -486,7 +486,6 @@ class _FrictionContact(Component):
 
     reference: ClassVar[str] = _HYBRID
     symbol: ClassVar[str] = "Slip"
-    law: ClassVar[str] = ""
 
     def __init__(self, name: str, kinetic: ParameterLike, static: ParameterLike,
                  grounded: bool) -> None:
@@ -510,10 +509,10 @@ class _FrictionContact(Component):
 
 
 class Friction(_FrictionContact):
-    """Karnopp stick-slip friction between ``a`` and ``b``: sticks while the force it must
-    hold stays within the static friction ``Fs``, slips with ``Fk sign(v_a - v_b)`` otherwise.
+    """Karnopp stick-slip friction between ``a`` and ``b`` (a slideway, a body on a table).
 
-    Two :class:`bondgraph.hybrid.Slip` switches (``<name>.fwd``, ``<name>.rev``)
+    It sticks while the force it must hold stays within the static friction
+    ``Fs`` and slips with ``Fk sign(v_a - v_b)`` otherwise.  Two :class:`bondgraph.hybrid.Slip` switches (``<name>.fwd``, ``<name>.rev``)
     on the 0-junction of the slip velocity; the component makes a switched
     model with the modes stick (both off), slip forwards (``fwd`` on) and
     slip backwards (``rev`` on).  ``grounded=True``: a body sliding on the
@@ -550,10 +549,10 @@ class Friction(_FrictionContact):
 
 
 class FrictionClutch(_FrictionContact):
-    """A friction clutch between shafts ``a`` and ``b`` (Karnopp): locked while the torque it
-    must transmit stays within ``Ts``, slipping with ``Tk sign(omega_a - omega_b)`` otherwise.
+    """A friction clutch between shafts ``a`` and ``b`` (Karnopp stick-slip).
 
-    The rotary :class:`Friction`: two :class:`bondgraph.hybrid.Slip` switches
+    Locked while the torque it must transmit stays within ``Ts``, slipping
+    with ``Tk sign(omega_a - omega_b)`` otherwise.  The rotary :class:`Friction`: two :class:`bondgraph.hybrid.Slip` switches
     (``<name>.fwd``, ``<name>.rev``) on the 0-junction of the slip speed.
 
     Parameters
