@@ -95,11 +95,11 @@ def main(argv: list[str] | None = None) -> int:
     print("friction clutch (Karnopp), ramp torque a t on J1, w2(0) = 2 rad/s:")
     fc = karnopp()
     k = KARNOPP
-    res = bg.simulate(fc, k, (0, 2), {"p_J2": k["J2"] * 2.0}, rtol=1e-10, atol=1e-12)
-    for ev in res.events:
+    fres = bg.simulate(fc, k, (0, 2), {"p_J2": k["J2"] * 2.0}, rtol=1e-10, atol=1e-12)
+    for ev in fres.events:
         print(f"t = {ev.time:.6f}: {ev.after}")
-    print(f"at t = 2: w1 = {res.outputs['w1'][-1]:.6f}, w2 = {res.outputs['w2'][-1]:.6f} rad/s, "
-          f"clutch torque {res.outputs['torque'][-1]:.6f} N m")
+    print(f"at t = 2: w1 = {fres.outputs['w1'][-1]:.6f}, w2 = {fres.outputs['w2'][-1]:.6f} rad/s, "
+          f"clutch torque {fres.outputs['torque'][-1]:.6f} N m")
     return 0
 
 

@@ -226,7 +226,8 @@ class Slip(_ContactSwitch, SwitchElement):
         return cast(sympy.Expr, self.static) - d * effort(self.name)
 
     def state_text(self, on: bool) -> str:
-        return f"slipping (kinetic friction {self.direction * self.kinetic})" if on else "stuck (no slip)"
+        kinetic = cast(sympy.Expr, self.kinetic)
+        return f"slipping (kinetic friction {self.direction * kinetic})" if on else "stuck (no slip)"
 
     def output(self, local: LocalVariables, port: int) -> sympy.Expr:
         # slipping: the kinetic friction (an effort source); stuck: no slip (zero flow)

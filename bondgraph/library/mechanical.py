@@ -449,7 +449,7 @@ class UnilateralContact(Component):
     """
 
     domain = "translation"
-    port_names = ("a", "b")
+    port_names: tuple[str, ...] = ("a", "b")
     port_domains = {"a": "translation", "b": "translation"}
     law = "closed: F = k x + b v >= 0, gap = 0;  open: F = 0, gap >= 0"
     reference = _HYBRID
@@ -539,7 +539,7 @@ class Friction(_FrictionContact):
     """
 
     domain = "translation"
-    port_names = ("a", "b")
+    port_names: tuple[str, ...] = ("a", "b")
     port_domains = {"a": "translation", "b": "translation"}
     law = "stick: v_a = v_b while |F| <= Fs;  slip: F = Fk sign(v_a - v_b)"
 
@@ -575,7 +575,7 @@ class FrictionClutch(_FrictionContact):
     """
 
     domain = "rotation"
-    port_names = ("a", "b")
+    port_names: tuple[str, ...] = ("a", "b")
     port_domains = {"a": "rotation", "b": "rotation"}
     law = "stick: omega_a = omega_b while |tau| <= Ts;  slip: tau = Tk sign(omega_a - omega_b)"
 
