@@ -136,8 +136,11 @@ class Contact(_ContactSwitch, SwitchElement):
     def __post_init__(self) -> None:
         super().__post_init__()
         clearance = _constant(self, self.clearance, "clearance")
+        if clearance.is_number and clearance < 0:
+            raise ParameterError(f"{self.label()}: clearance must be >= 0 (the gap at t = 0), got "
+                                 f"{clearance}")
         if not self.on and clearance.is_number and clearance > 0:
-            # closed, the gap is frozen and only the force is watched: it must start closed
+            # closed, the gap stays where it was when the contact closed: that must be zero
             raise ParameterError(f"{self.label()}: built closed (on=False) with a clearance of "
                                  f"{clearance}: a contact closes at zero gap; build it open "
                                  "(on=True) or with clearance=0")
@@ -202,6 +205,11 @@ class Slip(_ContactSwitch, SwitchElement):
     kind: ClassVar[str] = "Slip"
     self_switched: ClassVar[bool] = True
     meaning: ClassVar[str] = "its friction and slip velocity"
+    conflict_hint: ClassVar[str] = (
+        " A slipping Slip element is an effort source (its kinetic friction) and a stuck one a "
+        "zero-flow source: both directions of one friction contact slipping at once (two effort "
+        "sources on its 0-junction) is no consistent mode, nor is a stuck contact in series "
+        "with a flow source that moves it.")
 
     def __post_init__(self) -> None:
         super().__post_init__()

@@ -246,6 +246,8 @@ def test_bad_contact_parameters_are_named():
         Contact("K", clearance=bg.flow("m"))
     with pytest.raises(bg.BondGraphError, match=r"Ct:K: clearance must be finite"):
         Contact("K", clearance=float("inf"))
+    with pytest.raises(bg.BondGraphError, match=r"Ct:K: clearance must be >= 0 \(the gap at t = 0\), got -0.1"):
+        Contact("K", clearance=-0.1)
     with pytest.raises(bg.BondGraphError, match=r"UnilateralContact 'stop'.*stiffness must be positive"):
         UnilateralContact("stop", stiffness=-1.0, damping=1.0)
     with pytest.raises(bg.BondGraphError, match=r"Ct:K: built closed \(on=False\) with a clearance of 0.2"):
