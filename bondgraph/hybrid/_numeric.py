@@ -93,6 +93,7 @@ class CompiledMode:
         self.integrators = tuple(full.integrators)
         args = (T_SYM, *x, *inputs)
         outs = {name: ex.xreplace(subs) for name, ex in zip(full.output_names, full.output_exprs)}
+        self.signal_names = tuple(str(s) for s in sm.guard_signals)
         self.user_names = tuple(n for n in full.output_names if not n.startswith(("hyb_E", "hyb_S")))
         self.rhs = _lambdify(args, [e.xreplace(subs) for e in full.rhs])
         nq = len(sm.energy_signals)
@@ -158,6 +159,9 @@ class CompiledMode:
                     if explicit else None)
         self._guard_exprs = tuple(exprs)
         self._rates: Optional[list] = None
+        self._index: dict = {}
+        self._flow: Optional[object] = None
+        self._flow_done = False
         self._rhs_exprs = tuple(e.xreplace(subs) for e in full.rhs)
         self._args = args
         self._x_syms = x
@@ -188,11 +192,43 @@ class CompiledMode:
             return np.zeros(0)
         return np.asarray(self._g(t, *x, *u), dtype=float).reshape(-1)
 
+    def index_of(self, names: tuple) -> tuple:
+        """``(name, index)`` of those of ``names`` that have a guard in this mode (cached)."""
+        hit = self._index.get(names)
+        if hit is None:
+            pos = {n: j for j, n in enumerate(self.guard_names)}
+            hit = self._index[names] = tuple((n, pos[n]) for n in names if n in pos)
+        return hit
+
+    def guard_matrix(self, ts: np.ndarray, xs: np.ndarray, us: np.ndarray) -> np.ndarray:
+        """Every guard at many instants (``xs``: ``(n, m)``, ``us``: ``(n_u, m)``): ``(k, m)``."""
+        if self._g is None:
+            return np.zeros((0, ts.size))
+        vals = self._g(ts, *xs, *us)
+        return np.vstack([np.broadcast_to(np.asarray(v, dtype=float), ts.shape) for v in vals])
+
     def explicit_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         """The guards that read time or inputs (what the integration also resolves)."""
         if self._gx is None:
             return np.zeros(0)
         return np.asarray(self._gx(t, *x, *u), dtype=float).reshape(-1)
+
+    @property
+    def affine_flow(self):
+        """The exact flow (:class:`~bondgraph.hybrid._affine.AffineFlow`) when the mode is
+        ``x' = A x + b`` with constants and no guard reads time or inputs; else None."""
+        if not self._flow_done:
+            self._flow_done = True
+            xs = list(self._x_syms)
+            if xs and not self.explicit_guards and all(
+                    e.free_symbols <= set(xs) for e in self._rhs_exprs):
+                J = sympy.Matrix(self._rhs_exprs).jacobian(xs)
+                if not J.free_symbols:
+                    from ._affine import AffineFlow
+
+                    b = [float(e.xreplace({v: 0 for v in xs})) for e in self._rhs_exprs]
+                    self._flow = AffineFlow.of(np.array(J.tolist(), dtype=float), np.array(b))
+        return self._flow
 
     def trend(self, name: str, t: float, x: np.ndarray, u: np.ndarray, u_dot: np.ndarray,
               rel: float) -> int:
@@ -363,7 +399,7 @@ def integrated(sm: ModeSet, cm: CompiledMode, t: float, x: np.ndarray,
                u: np.ndarray) -> dict:
     """The value of every tracked signal (by its string) in mode ``cm`` at ``(t, x)``."""
     vals = cm.signals(t, x, u)
-    return {str(s): float(v) for s, v in zip(sm.guard_signals, vals)}
+    return dict(zip(cm.signal_names, vals.tolist()))
 
 
 def pick(candidates: list) -> Optional[tuple]:

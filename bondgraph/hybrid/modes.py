@@ -174,6 +174,12 @@ class ModeSet:
         self.guard_signals: tuple = tuple(signals)
         self._cache: dict = {}
 
+    def __getstate__(self) -> dict:
+        # the compiled numbers of past simulations are functions: not pickled, rebuilt when asked
+        state = dict(self.__dict__)
+        state.pop("_numeric", None)
+        return state
+
     def element(self, name: str) -> SwitchElement:
         """The element named ``name`` (a switch, or any other element of the graph)."""
         return cast(SwitchElement, self.flat.element(name))
