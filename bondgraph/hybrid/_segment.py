@@ -167,7 +167,7 @@ class _Exact:
 def _integrate_exact(cm, flow, t, x, t_stop, timed, u, watch, armed, arm_level, tol, record, evals,
                      clock, where) -> Segment:
     """:func:`integrate` for a mode with an exact affine flow: guards sampled on the exact
-    solution in steps of at most half the fastest time constant."""
+    solution in steps of at most a fifth of the fastest time constant."""
     n = len(x)
     dense = _Exact(flow, t, x)
     names = cm.guard_names
@@ -180,11 +180,13 @@ def _integrate_exact(cm, flow, t, x, t_stop, timed, u, watch, armed, arm_level, 
         clock(a)
         b = min(t_stop, a + flow.step)
         hit = _locate(cm, dense, a, b, n, g_prev, watch, armed, arm_level, tol, u, where)
+        # no solver steps to sample at: the guards' sample points are the samples
+        grid = np.linspace(a, b, _INTERIOR + 2)[1:] if evals is None else evals
         if hit is not None:
             te, fired = hit
-            _record_dense(cm, dense, a, te, n, record, evals, include_end=False)
+            _record_dense(cm, dense, a, te, n, record, grid, include_end=False)
             return Segment(te, dense(te), fired, 0.0)
-        _record_dense(cm, dense, a, b, n, record, evals, include_end=True)
+        _record_dense(cm, dense, a, b, n, record, grid, include_end=True)
         if b >= t_stop:
             return Segment(t_stop, dense(t_stop), timed, 0.0)
         g_prev = _guards(cm, b, dense(b), u(b), where)
