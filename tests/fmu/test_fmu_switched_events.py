@@ -130,3 +130,24 @@ def test_a_pwm_period_zero_is_refused_when_building():
     sm = SwitchedModel(library.buck(), outputs={"v": bg.effort("C")})
     with pytest.raises(FMUError, match="T = 0"):
         build_fmu(sm, values=dict(BUCK, T=0.0), binary=False)
+
+
+def test_bounce_fmu_first_contact_against_an_independent_solve(tmp_path):
+    from scipy.integrate import solve_ivp
+
+    vals = {"m": 1.0, "g": 9.81, "r": 1.0, "k_g": 100.0}
+    # m h'' = -m g - r h' from h = 10 at rest; contact when h = 0 (solved here, not by bondgraph)
+    fall = solve_ivp(lambda t, y: [y[1], -vals["g"] - vals["r"] * y[1] / vals["m"]], (0, 5),
+                     [10.0, 0.0], events=lambda t, y: y[0], rtol=1e-12, atol=1e-12)
+    t_hit = fall.t_events[0][0]
+    sm = SwitchedModel(library.bounce(), outputs={"h": bg.displacement("ball")})
+    path = tmp_path / "bounce.fmu"
+    path.write_bytes(build_fmu(sm, fmi=2, kind="me", values=vals))
+    res = simulate_fmu(str(path), fmi_type="ModelExchange", stop_time=3.0, output_interval=0.01,
+                       relative_tolerance=1e-10, start_values={"h": 10.0}, output=["h"])
+    t = res["time"]
+    first = t[1:][np.diff(t) == 0][0]
+    assert first == pytest.approx(t_hit, abs=1e-7)
+    sim = bg.simulate(sm, vals, (0, 3.0), {"h": 10.0}, rtol=1e-10, atol=1e-12)
+    assert sim.events[0].time == pytest.approx(t_hit, abs=1e-8)
+    assert res["h"][-1] == pytest.approx(sim.outputs["h"][-1], abs=1e-6)

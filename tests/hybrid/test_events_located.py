@@ -276,3 +276,43 @@ def test_a_diode_bonded_away_from_itself_draws_a_warning():
         g.connect(a, b)
     with pytest.warns(bg.BondGraphWarning, match=r"diode 'D' is bonded away from itself \(D -> i\)"):
         SwitchedModel(g)
+
+
+def test_a_run_agrees_with_a_shorter_run_restarted_inside_it():
+    # cost per event flat in the horizon (bench/hybrid_simulate.py); here the same numbers:
+    # a buck run over 30 periods against one restarted at period 10 from its state
+    sm = SwitchedModel(library.buck(), outputs={"v": bg.effort("C"), "iL": bg.flow("L")})
+    vals = {"Vin": 10, "duty": 0.5, "T": 1e-5, "L": 1e-4, "C": 1e-4, "R": 5}
+    grid = np.linspace(1e-4, 3e-4, 41)
+    whole = simulate(sm, (0, 3e-4), values=vals, t_eval=grid)
+    k = int(np.nonzero(whole.t == grid[0])[0][-1])
+    x0 = {name: float(v[k]) for name, v in whole.stored.items()}
+    part = simulate(sm, (grid[0], 3e-4), x0, values=vals, t_eval=grid)
+
+    def on_grid(r):
+        keep = np.isin(r.t, grid[1:]) & np.r_[np.diff(r.t) != 0, True]
+        return r.outputs["v"][keep], r.outputs["iL"][keep]
+
+    (v1, i1), (v2, i2) = on_grid(whole), on_grid(part)
+    assert len(v1) == len(v2) == 40
+    np.testing.assert_allclose(v1, v2, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(i1, i2, rtol=0, atol=1e-9)
+    assert [round(e.time, 12) for e in part.events] == [
+        round(e.time, 12) for e in whole.events if e.time > grid[0] + 1e-12]
+
+
+def test_a_blocked_diode_touching_zero_is_neither_an_event_nor_chattering():
+    # a capacitor charged to the source's peak behind a diode, no load: the reverse voltage
+    # Vm (1 - sin w t) touches zero at every peak; the diode stays off (on, its current C Vs'
+    # would fall below zero at the next instant), and no mode change is counted
+    g = bg.BondGraph("peak")
+    Vm, w = sympy.symbols("Vm w", positive=True)
+    g.add(bg.Se("Vs", value=Vm * sympy.sin(w * bg.t)), bg.One("i"), Diode("D"), bg.Zero("v"),
+          bg.C("C"))
+    for a, b in [("Vs", "i"), ("i", "D"), ("i", "v"), ("v", "C")]:
+        g.connect(a, b)
+    sm = SwitchedModel(g, outputs={"v": bg.effort("C")})
+    res = simulate(sm, (0, 0.2), {"q_C": 1e-4 * 10.0}, values={"Vm": 10, "w": 100 * math.pi, "C": 1e-4},
+                   chatter_count=2)
+    assert not res.events and {str(m) for m in res.modes} == {"D off"}
+    assert np.all(res.outputs["v"] == 10.0)
