@@ -66,7 +66,17 @@ def buck_horizons(long_run: bool) -> None:
           f"{np.max(np.abs(v1 - v2)):.2e} V, max |di| = {np.max(np.abs(i1 - i2)):.2e} A")
 
 
+def calibration() -> None:
+    """A reference cost of this machine now (2 shared cores are often loaded 5x)."""
+    t0 = time.process_time()
+    for _ in range(20000):
+        np.linspace(0.0, 1.0, 6)
+    print(f"machine: np.linspace(0, 1, 6) costs {(time.process_time() - t0) / 20000 * 1e6:.1f} us CPU "
+          "(a loaded machine inflates every figure below by the same factor)", flush=True)
+
+
 def main() -> None:
+    calibration()
     ap = argparse.ArgumentParser()
     ap.add_argument("--quick", action="store_true", help="skip the one-second buck run")
     quick = ap.parse_args().quick

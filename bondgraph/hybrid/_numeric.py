@@ -82,9 +82,9 @@ class CompiledMode:
         self.mode: Mode = mm.mode
         self.model = full
         if full.input_derivatives:
-            names = ", ".join(str(s) for s in full.input_derivatives)
+            needed = ", ".join(str(s) for s in full.input_derivatives)
             raise HybridError(
-                f"mode ({mm.mode}) of model {sm.name!r} needs the input derivatives {names} "
+                f"mode ({mm.mode}) of model {sm.name!r} needs the input derivatives {needed} "
                 "(a storage element in derivative causality driven by an input): give that "
                 "source a value= expression of time bondgraph.t so it can be differentiated")
         x = tuple(full.states)
@@ -117,7 +117,8 @@ class CompiledMode:
         self._c = _lambdify((T_SYM, *inputs), [e.xreplace(zero) for e in q_exprs]) if self.affine else None
         # guards in this mode's variables: each switch's guard with its signals replaced
         sig_map = dict(zip(sm.guard_signals, s_exprs))
-        names, exprs = [], []
+        names: list[str] = []
+        exprs: list = []
         timed: dict[str, Callable] = {}
         periodic: dict[str, float] = {}
         constant: set = set()
@@ -339,7 +340,7 @@ def _culprits(sm: ModeSet, expr: sympy.Expr, subs: dict) -> str:
 def periods(sm: ModeSet, subs: dict) -> tuple[dict, str]:
     """The numeric period of every switch that declares one, and why one is not a finite
     positive number (``""`` when all are)."""
-    out = {}
+    out: dict[str, float] = {}
     for n in sm.switches:
         p = getattr(sm.element(n), "period", None)
         if p is None:

@@ -323,7 +323,9 @@ class Run:
         check_clock = (lambda tt: clock.check(tt, lambda: rec.result(events))) \
             if o.time_budget is not None else (lambda tt: None)
         recent: dict[str, deque] = defaultdict(lambda: deque(maxlen=o.chatter_count))
-        t, armed, level = o.t0, {}, {}
+        t = o.t0
+        armed: dict[str, bool] = {}
+        level: dict[str, float] = {}
         steps: dict = {}
         same_t, same_n = None, 0
         while True:

@@ -38,6 +38,7 @@ _SOLVERS = {"RK45": RK45, "RK23": RK23, "DOP853": DOP853, "Radau": Radau, "BDF":
 _RESETTABLE = ("RK45", "RK23", "DOP853")
 #: interior points of a step at which every guard is evaluated on the dense output
 _INTERIOR = 4
+_FRACTIONS = np.linspace(0.0, 1.0, _INTERIOR + 2)[1:]
 
 
 class Segment:
@@ -181,7 +182,7 @@ def _integrate_exact(cm, flow, t, x, t_stop, timed, u, watch, armed, arm_level, 
         b = min(t_stop, a + flow.step)
         hit = _locate(cm, dense, a, b, n, g_prev, watch, armed, arm_level, tol, u, where)
         # no solver steps to sample at: the guards' sample points are the samples
-        grid = np.linspace(a, b, _INTERIOR + 2)[1:] if evals is None else evals
+        grid = a + (b - a) * _FRACTIONS if evals is None else evals
         if hit is not None:
             te, fired = hit
             _record_dense(cm, dense, a, te, n, record, grid, include_end=False)
@@ -206,7 +207,7 @@ def _locate(cm, dense, a, b, n, g_prev, watch, armed, arm_level, tol, u, where):
     """The first guard fall in ``(a, b]`` on the dense output: ``(te, names)`` or None."""
     if not watch:
         return None
-    ts = np.linspace(a, b, _INTERIOR + 2)[1:]
+    ts = a + (b - a) * _FRACTIONS
     ys = np.asarray(dense(ts), dtype=float)
     G = cm.guard_matrix(ts, ys[:n], _inputs(u, ts))
     if not np.all(np.isfinite(G)):
