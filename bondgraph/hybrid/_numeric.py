@@ -303,11 +303,11 @@ def nonfinite(sm: ModeSet, modes: Sequence[Mode], fulls: Sequence, subs: dict) -
             if g is not None:
                 groups.append((f"the guard of switch {n!r} is", g))
         for what, expr in groups:
-            if expr.xreplace(subs).has(*_NONFINITE):
+            if sympy.sympify(expr.xreplace(subs)).has(*_NONFINITE):
                 return (f"model {sm.name!r}, mode ({mode}): {what} not finite with these "
                         f"values{_culprits(sm, expr, subs)}")
     _, H = sm.energy()
-    if H.xreplace(subs).has(*_NONFINITE):
+    if sympy.sympify(H.xreplace(subs)).has(*_NONFINITE):
         return (f"model {sm.name!r}: the stored energy is not finite with these "
                 f"values{_culprits(sm, H, subs)}")
     return ""
@@ -391,7 +391,7 @@ def _rate_terms(g: sympy.Expr, xs: Sequence, rhs: Sequence, us: Sequence, args: 
 
 def _refuse_complex(expr: sympy.Expr, where: str) -> None:
     """A guard or equation that became complex or non-finite with the numbers substituted."""
-    if expr.has(sympy.I):
+    if sympy.sympify(expr).has(sympy.I):
         raise HybridError(f"{where} is complex ({expr}); a switched model's equations and "
                           "guards must be real")
 

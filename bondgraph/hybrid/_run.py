@@ -54,6 +54,8 @@ class Run:
                 if expr is not None:
                     guard_syms += [s for s in expr.free_symbols
                                    if not isinstance(s, Signal) and s != T_SYM]
+        qs, H = sm.energy()      # a storage parameter in no mode's equations (a mass held still)
+        guard_syms += [s for s in H.free_symbols if s not in qs]
         for s in sorted(guard_syms, key=str):
             params.setdefault(s.name, s)
         known = tuple(m.known_parameters for m in fulls)
@@ -61,7 +63,8 @@ class Run:
                              where=f"model {sm.name!r}: ")
         num = {p.name: real_value(v, p.name) for p, v in given.items()}
         self.values = num
-        self.subs = {p: num[p.name] for p in params.values() if p.name in num}
+        # sympy numbers, so that an expression that is one parameter stays a sympy expression
+        self.subs = {p: sympy.Float(num[p.name]) for p in params.values() if p.name in num}
         self._check_finite(modes, fulls)
         self.periods = self._periods()
         # inputs, in order of first appearance
@@ -93,7 +96,7 @@ class Run:
                                       f"number or a function of t; got {type(v).__name__} {v!r}") from exc
                 self._u.append(lambda t, c=c: c)
         # compiled modes are kept on the model for the same numbers (a second run compiles nothing)
-        key = (tuple(sorted((p.name, v) for p, v in self.subs.items())), self.input_syms)
+        key = (tuple(sorted((p.name, float(v)) for p, v in self.subs.items())), self.input_syms)
         store = sm.__dict__.setdefault("_numeric", {})
         if key not in store:
             if len(store) > 8:

@@ -42,7 +42,7 @@ from ..errors import AlgebraicLoopError, BondGraphWarning, CausalityError, Outpu
 from ..flatten import FlatGraph, flatten
 from ..graph import BondGraph
 from ..model import Model
-from .elements import SwitchElement, gate_signals
+from .elements import Diode, SwitchElement, gate_signals
 from .errors import ModeError
 
 __all__ = ["Mode", "ModeModel", "ModeSet"]
@@ -322,7 +322,7 @@ def _warn_reversed_diodes(flat: FlatGraph, switches: Iterable[str]) -> None:
     """A :class:`~bondgraph.BondGraphWarning` for each diode bonded away from itself."""
     for name in switches:
         el = flat.element(name)
-        if not getattr(el, "self_switched", False):
+        if not isinstance(el, Diode):
             continue
         for b in flat.incidence.get(name, ()):
             bond = flat.bonds[b]
