@@ -317,9 +317,9 @@ def _culprits(sm: ModeSet, expr: sympy.Expr, subs: dict) -> str:
     """``": C:C has C = 0 (...)"`` for the elements whose parameters are zero in ``expr``."""
     from .._support.sympify import parameter_symbols
 
-    zero = {s.name for s in expr.free_symbols if s in subs and subs[s] == 0}
+    zero = {s.name for s in expr.free_symbols if s in subs and float(subs[s]) == 0}
     if not zero:
-        zero = {getattr(s, "name", str(s)) for s, v in subs.items() if v == 0}
+        zero = {getattr(s, "name", str(s)) for s, v in subs.items() if float(v) == 0}
     found = []
     for el in sm.flat.elements:
         hit = sorted({p.name for p in parameter_symbols(el)} & zero)
