@@ -155,6 +155,8 @@ def prepare_switched(sm, *, reserved: Iterable[str], matlab: bool = False,
             for s in sorted(g.free_symbols if g is not None else (), key=str):
                 if not isinstance(s, Signal) and s != T_SYM:
                     params.setdefault(s.name, s)
+    for s in sorted(H.free_symbols - set(Q), key=str):     # a storage parameter in no mode's equations
+        params.setdefault(s.name, s)
     inputs: list = []
     for full in fulls:
         inputs += [s for s in full.inputs if s not in inputs]

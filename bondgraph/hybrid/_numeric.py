@@ -82,9 +82,9 @@ class CompiledMode:
         self.mode: Mode = mm.mode
         self.model = full
         if full.input_derivatives:
-            names = ", ".join(str(s) for s in full.input_derivatives)
+            needed = ", ".join(str(s) for s in full.input_derivatives)
             raise HybridError(
-                f"mode ({mm.mode}) of model {sm.name!r} needs the input derivatives {names} "
+                f"mode ({mm.mode}) of model {sm.name!r} needs the input derivatives {needed} "
                 "(a storage element in derivative causality driven by an input): give that "
                 "source a value= expression of time bondgraph.t so it can be differentiated")
         x = tuple(full.states)
@@ -93,6 +93,7 @@ class CompiledMode:
         self.integrators = tuple(full.integrators)
         args = (T_SYM, *x, *inputs)
         outs = {name: ex.xreplace(subs) for name, ex in zip(full.output_names, full.output_exprs)}
+        self.signal_names = tuple(str(s) for s in sm.guard_signals)
         self.user_names = tuple(n for n in full.output_names if not n.startswith(("hyb_E", "hyb_S")))
         self.rhs = _lambdify(args, [e.xreplace(subs) for e in full.rhs])
         nq = len(sm.energy_signals)
@@ -116,7 +117,8 @@ class CompiledMode:
         self._c = _lambdify((T_SYM, *inputs), [e.xreplace(zero) for e in q_exprs]) if self.affine else None
         # guards in this mode's variables: each switch's guard with its signals replaced
         sig_map = dict(zip(sm.guard_signals, s_exprs))
-        names, exprs = [], []
+        names: list[str] = []
+        exprs: list = []
         timed: dict[str, Callable] = {}
         periodic: dict[str, float] = {}
         constant: set = set()
@@ -158,6 +160,9 @@ class CompiledMode:
                     if explicit else None)
         self._guard_exprs = tuple(exprs)
         self._rates: Optional[list] = None
+        self._index: dict = {}
+        self._flow: Optional[object] = None
+        self._flow_done = False
         self._rhs_exprs = tuple(e.xreplace(subs) for e in full.rhs)
         self._args = args
         self._x_syms = x
@@ -188,11 +193,43 @@ class CompiledMode:
             return np.zeros(0)
         return np.asarray(self._g(t, *x, *u), dtype=float).reshape(-1)
 
+    def index_of(self, names: tuple) -> tuple:
+        """``(name, index)`` of those of ``names`` that have a guard in this mode (cached)."""
+        hit = self._index.get(names)
+        if hit is None:
+            pos = {n: j for j, n in enumerate(self.guard_names)}
+            hit = self._index[names] = tuple((n, pos[n]) for n in names if n in pos)
+        return hit
+
+    def guard_matrix(self, ts: np.ndarray, xs: np.ndarray, us: np.ndarray) -> np.ndarray:
+        """Every guard at many instants (``xs``: ``(n, m)``, ``us``: ``(n_u, m)``): ``(k, m)``."""
+        if self._g is None:
+            return np.zeros((0, ts.size))
+        vals = self._g(ts, *xs, *us)
+        return np.vstack([np.broadcast_to(np.asarray(v, dtype=float), ts.shape) for v in vals])
+
     def explicit_values(self, t: float, x: np.ndarray, u: np.ndarray) -> np.ndarray:
         """The guards that read time or inputs (what the integration also resolves)."""
         if self._gx is None:
             return np.zeros(0)
         return np.asarray(self._gx(t, *x, *u), dtype=float).reshape(-1)
+
+    @property
+    def affine_flow(self):
+        """The exact flow (:class:`~bondgraph.hybrid._affine.AffineFlow`) when the mode is
+        ``x' = A x + b`` with constants and no guard reads time or inputs; else None."""
+        if not self._flow_done:
+            self._flow_done = True
+            xs = list(self._x_syms)
+            if xs and not self.explicit_guards and all(
+                    e.free_symbols <= set(xs) for e in self._rhs_exprs):
+                J = sympy.Matrix(self._rhs_exprs).jacobian(xs)
+                if not J.free_symbols:
+                    from ._affine import AffineFlow
+
+                    b = [float(e.xreplace({v: 0 for v in xs})) for e in self._rhs_exprs]
+                    self._flow = AffineFlow.of(np.array(J.tolist(), dtype=float), np.array(b))
+        return self._flow
 
     def trend(self, name: str, t: float, x: np.ndarray, u: np.ndarray, u_dot: np.ndarray,
               rel: float) -> int:
@@ -266,11 +303,11 @@ def nonfinite(sm: ModeSet, modes: Sequence[Mode], fulls: Sequence, subs: dict) -
             if g is not None:
                 groups.append((f"the guard of switch {n!r} is", g))
         for what, expr in groups:
-            if expr.xreplace(subs).has(*_NONFINITE):
+            if sympy.sympify(expr.xreplace(subs)).has(*_NONFINITE):
                 return (f"model {sm.name!r}, mode ({mode}): {what} not finite with these "
                         f"values{_culprits(sm, expr, subs)}")
     _, H = sm.energy()
-    if H.xreplace(subs).has(*_NONFINITE):
+    if sympy.sympify(H.xreplace(subs)).has(*_NONFINITE):
         return (f"model {sm.name!r}: the stored energy is not finite with these "
                 f"values{_culprits(sm, H, subs)}")
     return ""
@@ -280,9 +317,9 @@ def _culprits(sm: ModeSet, expr: sympy.Expr, subs: dict) -> str:
     """``": C:C has C = 0 (...)"`` for the elements whose parameters are zero in ``expr``."""
     from .._support.sympify import parameter_symbols
 
-    zero = {s.name for s in expr.free_symbols if s in subs and subs[s] == 0}
+    zero = {s.name for s in expr.free_symbols if s in subs and float(subs[s]) == 0}
     if not zero:
-        zero = {getattr(s, "name", str(s)) for s, v in subs.items() if v == 0}
+        zero = {getattr(s, "name", str(s)) for s, v in subs.items() if float(v) == 0}
     found = []
     for el in sm.flat.elements:
         hit = sorted({p.name for p in parameter_symbols(el)} & zero)
@@ -303,7 +340,7 @@ def _culprits(sm: ModeSet, expr: sympy.Expr, subs: dict) -> str:
 def periods(sm: ModeSet, subs: dict) -> tuple[dict, str]:
     """The numeric period of every switch that declares one, and why one is not a finite
     positive number (``""`` when all are)."""
-    out = {}
+    out: dict[str, float] = {}
     for n in sm.switches:
         p = getattr(sm.element(n), "period", None)
         if p is None:
@@ -354,7 +391,7 @@ def _rate_terms(g: sympy.Expr, xs: Sequence, rhs: Sequence, us: Sequence, args: 
 
 def _refuse_complex(expr: sympy.Expr, where: str) -> None:
     """A guard or equation that became complex or non-finite with the numbers substituted."""
-    if expr.has(sympy.I):
+    if sympy.sympify(expr).has(sympy.I):
         raise HybridError(f"{where} is complex ({expr}); a switched model's equations and "
                           "guards must be real")
 
@@ -363,7 +400,7 @@ def integrated(sm: ModeSet, cm: CompiledMode, t: float, x: np.ndarray,
                u: np.ndarray) -> dict:
     """The value of every tracked signal (by its string) in mode ``cm`` at ``(t, x)``."""
     vals = cm.signals(t, x, u)
-    return {str(s): float(v) for s, v in zip(sm.guard_signals, vals)}
+    return dict(zip(cm.signal_names, vals.tolist()))
 
 
 def pick(candidates: list) -> Optional[tuple]:

@@ -54,6 +54,8 @@ class Run:
                 if expr is not None:
                     guard_syms += [s for s in expr.free_symbols
                                    if not isinstance(s, Signal) and s != T_SYM]
+        qs, H = sm.energy()      # a storage parameter in no mode's equations (a mass held still)
+        guard_syms += [s for s in H.free_symbols if s not in qs]
         for s in sorted(guard_syms, key=str):
             params.setdefault(s.name, s)
         known = tuple(m.known_parameters for m in fulls)
@@ -61,7 +63,8 @@ class Run:
                              where=f"model {sm.name!r}: ")
         num = {p.name: real_value(v, p.name) for p, v in given.items()}
         self.values = num
-        self.subs = {p: num[p.name] for p in params.values() if p.name in num}
+        # sympy numbers, so that an expression that is one parameter stays a sympy expression
+        self.subs = {p: sympy.Float(num[p.name]) for p in params.values() if p.name in num}
         self._check_finite(modes, fulls)
         self.periods = self._periods()
         # inputs, in order of first appearance
@@ -92,8 +95,15 @@ class Run:
                     raise HybridError(f"model {sm.name!r}: input {s.name!r} must be a finite real "
                                       f"number or a function of t; got {type(v).__name__} {v!r}") from exc
                 self._u.append(lambda t, c=c: c)
-        self.metric = EnergyMetric(sm, self.subs)
-        self._compiled: dict = {}
+        # compiled modes are kept on the model for the same numbers (a second run compiles nothing)
+        key = (tuple(sorted((p.name, float(v)) for p, v in self.subs.items())), self.input_syms)
+        store = sm.__dict__.setdefault("_numeric", {})
+        if key not in store:
+            if len(store) > 8:
+                store.clear()
+            store[key] = ({}, EnergyMetric(sm, self.subs), {})
+        self._compiled, self.metric, self._falls = store[key]
+        self._cands: dict = {}
         # names of the stored quantities: the state name where the element is integral
         labels = [str(s) for s in sm.energy_signals]
         for m in fulls:
@@ -102,7 +112,6 @@ class Run:
                 if ex in m.states[: m.storage_states]:
                     labels[k] = ex.name
         self.labels = tuple(labels)
-        self._falls: dict = {}
         self.chatter_time = opts.chatter_time
         if self.chatter_time is None:
             self.chatter_time = min([1e-6 * (opts.t1 - opts.t0)] + [1e-3 * p for p in self.periods.values()])
@@ -124,11 +133,18 @@ class Run:
     def u(self, t: float) -> np.ndarray:
         return np.array([f(t) for f in self._u], dtype=float)
 
-    def compiled(self, mode: Mode) -> CompiledMode:
-        cm = self._compiled.get(mode)
-        if cm is None:
-            cm = self._compiled[mode] = CompiledMode(self.sm, self.sm.derived(mode), self.subs,
-                                                     self.input_syms, self.periods)
+    def compiled(self, mode: Mode) -> Optional[CompiledMode]:
+        """The compiled mode, None for an inconsistent combination of switch states."""
+        try:
+            return self._compiled[mode]
+        except KeyError:
+            pass
+        try:
+            mm = self.sm.derived(mode)
+        except ModeError:
+            self._compiled[mode] = None
+            return None
+        cm = self._compiled[mode] = CompiledMode(self.sm, mm, self.subs, self.input_syms, self.periods)
         return cm
 
     def falls(self, cm: CompiledMode, t: float) -> dict:
@@ -183,30 +199,30 @@ class Run:
         """The new mode by complementarity: ``(mode, cm, x, q_new, loss, jumped)``."""
         u = self.u(t)
         cands, tried = [], []
-        for k in range(len(free) + 1):
-            for flip in itertools.combinations(free, k):
-                mode = proposed.flipped(*flip)
-                try:
-                    cm = self.compiled(mode)
-                except ModeError:
+        watch = tuple(dict.fromkeys(tuple(check) + tuple(trigger or ())))
+        for k, mode in self._candidates(proposed, free):
+            cm = self.compiled(mode)
+            if cm is None:
+                continue
+            x, q_new, loss = cm.enter(t, q_old, integ, u, self.metric, self.sm)
+            q_ref = q_old
+            if given:
+                x, q_new, q_ref, why = self._honour(cm, t, x, u, q_old, given)
+                if why:
+                    tried.append((mode, why))
                     continue
-                x, q_new, loss = cm.enter(t, q_old, integ, u, self.metric, self.sm)
-                q_ref = q_old
-                if given:
-                    x, q_new, q_ref, why = self._honour(cm, t, x, u, q_old, given)
-                    if why:
-                        tried.append((mode, why))
-                        continue
-                    loss = self.metric.energy(q_ref) - self.metric.energy(q_new)
-                g = cm.guard_values(t, x, u)
-                bad = [n for n in check if n in g and not g[n] >= -self.guard_tol]
-                if bad:
-                    tried.append((mode, f"violates the guard of {', '.join(bad)}"))
-                    continue
-                leaving = self._leaving(cm, t, x, u, g, tuple(check) + tuple(trigger or ()))
-                jumped = self._jumped(q_ref, q_new)
-                cands.append(((bool(leaving), jumped, k, abs(loss)), mode, cm, x, q_new, loss,
-                              jumped, leaving, q_ref))
+                loss = self.metric.energy(q_ref) - self.metric.energy(q_new)
+            g = cm.guard_array(t, x, u)
+            idx = cm.index_of(watch)
+            bad = [n for n, j in idx if n in check and not g[j] >= -self.guard_tol]
+            if bad:
+                tried.append((mode, f"violates the guard of {', '.join(bad)}"))
+                continue
+            near = [n for n, j in idx if g[j] <= self.guard_tol]
+            leaving = self._leaving(cm, t, x, u, near) if near else ()
+            jumped = self._jumped(q_ref, q_new)
+            cands.append(((bool(leaving), jumped, k, abs(loss)), mode, cm, x, q_new, loss,
+                          jumped, leaving, q_ref))
         where = f"at t = {t:.9g}"
         if not cands:
             text = "; ".join(f"mode ({m}) {why}" for m, why in tried)
@@ -227,15 +243,21 @@ class Run:
                 "resistance, an inductance) or a hysteresis in its gate", time=t, element=name)
         return mode, cm, x, q_new, (loss if jumped else 0.0), jumped
 
-    def _leaving(self, cm: CompiledMode, t, x, u, g: dict, names) -> tuple:
-        """The guards among ``names`` that are at zero (within ``guard_tol``) and fall below it
-        at the next instant (their first nonzero time derivative negative)."""
-        near = [n for n in dict.fromkeys(names) if n in g and g[n] <= self.guard_tol]
-        if not near:
-            return ()
+    def _leaving(self, cm: CompiledMode, t, x, u, near) -> tuple:
+        """The guards among ``near`` (at zero within ``guard_tol``) that fall below zero at
+        the next instant (their first nonzero time derivative negative)."""
         u_dot = self.u_rate(t) if len(u) else u
         rel = max(1e-10, 100 * self.opts.rtol)
         return tuple(n for n in near if cm.trend(n, t, x, u, u_dot, rel) < 0)
+
+    def _candidates(self, proposed: Mode, free: tuple) -> list:
+        """``(flips, mode)`` for every subset of ``free`` flipped in ``proposed`` (cached)."""
+        key = (proposed, free)
+        out = self._cands.get(key)
+        if out is None:
+            out = self._cands[key] = [(k, proposed.flipped(*flip)) for k in range(len(free) + 1)
+                                      for flip in itertools.combinations(free, k)]
+        return out
 
     def u_rate(self, t: float) -> np.ndarray:
         """The inputs' rates at ``t`` (a one-sided difference forward: the next instant)."""
@@ -243,9 +265,12 @@ class Run:
         return (self.u(t + h) - self.u(t)) / h
 
     def _jumped(self, q_old, q_new) -> bool:
-        o = self.opts
-        scale = 10 * (o.atol + o.rtol * np.maximum(np.abs(q_old), np.abs(q_new)))
-        return bool(np.any(np.abs(q_new - q_old) > scale))
+        """Whether a stored quantity moved beyond ten times the solver's tolerance on it."""
+        atol, rtol = self.opts.atol, self.opts.rtol
+        for a, b in zip(q_old.tolist(), q_new.tolist()):
+            if abs(b - a) > 10 * (atol + rtol * max(abs(a), abs(b))):
+                return True
+        return False
 
     def _honour(self, cm: CompiledMode, t, x, u, q_old, given: dict):
         """``x`` adjusted so that the mode's signals take the values given in ``x0``:
@@ -301,7 +326,9 @@ class Run:
         check_clock = (lambda tt: clock.check(tt, lambda: rec.result(events))) \
             if o.time_budget is not None else (lambda tt: None)
         recent: dict[str, deque] = defaultdict(lambda: deque(maxlen=o.chatter_count))
-        t, armed, level = o.t0, {}, {}
+        t = o.t0
+        armed: dict[str, bool] = {}
+        level: dict[str, float] = {}
         steps: dict = {}
         same_t, same_n = None, 0
         while True:
@@ -403,18 +430,26 @@ class _Recorder:
     def result(self, events) -> SwitchedResult:
         run = self.run
         names = list(run.sm.user_outputs.keys())
-        ts, outs, qs, idx = [], [], [], []
-        for cm, t, xs in self.chunks:
-            us = np.array([[f(float(s)) for s in t] for f in run._u]).reshape(len(run._u), t.size)
-            ts.append(t)
-            outs.append(_many(cm._outs, t, xs, us))
-            qs.append(_many(cm._q, t, xs, us))
-            idx.append(np.full(t.size, self._index(cm), dtype=int))
-        t_all = np.concatenate(ts) if ts else np.zeros(0)
-        out = np.hstack(outs) if outs else np.zeros((len(names), 0))
-        q = np.hstack(qs) if qs else np.zeros((len(run.labels), 0))
+        sizes = [t.size for _, t, _ in self.chunks]
+        total = sum(sizes)
+        t_all = np.concatenate([t for _, t, _ in self.chunks]) if self.chunks else np.zeros(0)
+        out = np.zeros((len(names), total))
+        q = np.zeros((len(run.labels), total))
+        idx = np.zeros(total, dtype=int)
+        groups: dict = {}
+        pos = 0
+        for (cm, t, xs), size in zip(self.chunks, sizes):
+            idx[pos:pos + size] = self._index(cm)
+            groups.setdefault(id(cm), (cm, []))[1].append((pos, t, xs))
+            pos += size
+        for cm, parts in groups.values():
+            sel = np.concatenate([np.arange(p, p + t.size) for p, t, _ in parts])
+            tt = np.concatenate([t for _, t, _ in parts])
+            xx = np.hstack([xs for _, _, xs in parts])
+            us = np.array([[f(float(s)) for s in tt] for f in run._u]).reshape(len(run._u), tt.size)
+            out[:, sel] = _many(cm._outs, tt, xx, us)
+            q[:, sel] = _many(cm._q, tt, xx, us)
         return SwitchedResult(
             t=t_all, outputs={n: out[j] for j, n in enumerate(names)},
             stored={lab: q[j] for j, lab in enumerate(run.labels)},
-            mode_index=np.concatenate(idx) if idx else np.zeros(0, dtype=int),
-            modes=tuple(self.modes), events=tuple(events))
+            mode_index=idx, modes=tuple(self.modes), events=tuple(events))

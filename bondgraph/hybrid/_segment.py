@@ -38,6 +38,7 @@ _SOLVERS = {"RK45": RK45, "RK23": RK23, "DOP853": DOP853, "Radau": Radau, "BDF":
 _RESETTABLE = ("RK45", "RK23", "DOP853")
 #: interior points of a step at which every guard is evaluated on the dense output
 _INTERIOR = 4
+_FRACTIONS = np.linspace(0.0, 1.0, _INTERIOR + 2)[1:]
 
 
 class Segment:
@@ -101,6 +102,10 @@ def integrate(cm: CompiledMode, t: float, x: np.ndarray, t_end: float, *, u: Cal
     if not watch and n == 0 and n_x == 0 or t_stop <= t:
         _record_static(cm, t, t_stop, x, record, evals)
         return Segment(t_stop, np.asarray(x, dtype=float), tuple(timed) if t_stop < t_end else (), 0.0)
+    if n_x == 0 and cm.affine_flow is not None:
+        return _integrate_exact(cm, cm.affine_flow, t, np.asarray(x, dtype=float), t_stop,
+                                tuple(timed) if t_stop < t_end else (), u, watch, armed, arm_level,
+                                guard_tol, record, evals, clock, where)
     y0 = np.concatenate([np.asarray(x, dtype=float), np.zeros(n_x)])
     uc = u
 
@@ -147,6 +152,48 @@ def integrate(cm: CompiledMode, t: float, x: np.ndarray, t_end: float, *, u: Cal
             return Segment(t_stop, np.array(solver.y[:n], dtype=float), fired, b - a)
 
 
+class _Exact:
+    """The dense output of an exact affine flow from ``(t0, x0)`` (scipy's calling convention)."""
+
+    def __init__(self, flow, t0: float, x0: np.ndarray) -> None:
+        self.flow, self.t0 = flow, t0
+        self.c = flow.coefficients(x0)
+
+    def __call__(self, s):
+        if np.ndim(s) == 0:
+            return self.flow.from_coefficients(np.array([s]), self.t0, self.c)[:, 0]
+        return self.flow.from_coefficients(s, self.t0, self.c)
+
+
+def _integrate_exact(cm, flow, t, x, t_stop, timed, u, watch, armed, arm_level, tol, record, evals,
+                     clock, where) -> Segment:
+    """:func:`integrate` for a mode with an exact affine flow: guards sampled on the exact
+    solution in steps of at most a fifth of the fastest time constant."""
+    n = len(x)
+    dense = _Exact(flow, t, x)
+    names = cm.guard_names
+    g_prev = _guards(cm, t, x, u(t), where)
+    for k in watch:
+        if not armed.get(names[k], False) and g_prev[k] > arm_level.get(names[k], 0.0):
+            armed[names[k]] = True
+    a = t
+    while True:
+        clock(a)
+        b = min(t_stop, a + flow.step)
+        hit = _locate(cm, dense, a, b, n, g_prev, watch, armed, arm_level, tol, u, where)
+        # no solver steps to sample at: the guards' sample points are the samples
+        grid = a + (b - a) * _FRACTIONS if evals is None else evals
+        if hit is not None:
+            te, fired = hit
+            _record_dense(cm, dense, a, te, n, record, grid, include_end=False)
+            return Segment(te, dense(te), fired, 0.0)
+        _record_dense(cm, dense, a, b, n, record, grid, include_end=True)
+        if b >= t_stop:
+            return Segment(t_stop, dense(t_stop), timed, 0.0)
+        g_prev = _guards(cm, b, dense(b), u(b), where)
+        a = b
+
+
 def _guards(cm: CompiledMode, t: float, x, u, where: str) -> np.ndarray:
     g = cm.guard_array(t, x, u)
     if not np.all(np.isfinite(g)):
@@ -160,14 +207,32 @@ def _locate(cm, dense, a, b, n, g_prev, watch, armed, arm_level, tol, u, where):
     """The first guard fall in ``(a, b]`` on the dense output: ``(te, names)`` or None."""
     if not watch:
         return None
-    ts = np.linspace(a, b, _INTERIOR + 2)[1:]
+    ts = a + (b - a) * _FRACTIONS
     ys = np.asarray(dense(ts), dtype=float)
-    rows = [_guards(cm, float(s), ys[:n, j], u(float(s)), where) for j, s in enumerate(ts)]
+    G = cm.guard_matrix(ts, ys[:n], _inputs(u, ts))
+    if not np.all(np.isfinite(G)):
+        k, j = (int(v[0]) for v in np.nonzero(~np.isfinite(G)))
+        raise HybridError(f"{where}: the guard of switch {cm.guard_names[k]!r} is {G[k, j]} at "
+                          f"t = {ts[j]:.9g}; a guard must be a finite real number")
     names = cm.guard_names
+    # the common case: every guard stays on its side and none is armed in this step
+    quiet = True
+    for k in watch:
+        nm = names[k]
+        row = G[k]
+        if armed.get(nm, False):
+            if row.min() < 0:
+                quiet = False
+                break
+        elif row.min() < -tol or row.max() > arm_level.get(nm, 0.0):
+            quiet = False
+            break
+    if quiet:
+        return None
     best = None
     prev_t, prev = a, g_prev
     for j, s in enumerate(ts):
-        cur = rows[j]
+        cur = G[:, j]
         for k in watch:
             nm = names[k]
             level = 0.0 if armed.get(nm, False) else -tol
@@ -191,6 +256,14 @@ def _locate(cm, dense, a, b, n, g_prev, watch, armed, arm_level, tol, u, where):
     fired = tuple(names[k] for k in watch
                   if g[k] < (0.0 if armed.get(names[k], False) else -tol) or k == best[1])
     return te, fired
+
+
+def _inputs(u, ts: np.ndarray) -> np.ndarray:
+    """The inputs at the times ``ts``: shape ``(n_inputs, len(ts))``."""
+    first = u(float(ts[0]))
+    if not len(first):
+        return np.zeros((0, ts.size))
+    return np.array([u(float(s)) for s in ts]).T
 
 
 def _record_dense(cm, dense, a, b, n, record, evals, *, include_end: bool) -> None:
@@ -222,10 +295,9 @@ def next_time_event(falls: dict, t: float, t_end: float) -> Optional[tuple]:
     """
     best, who = math.inf, []
     for name, (inst, period) in falls.items():
-        if not inst.size:
+        if not len(inst):
             continue
-        k = np.ceil((t + 1e-9 * period - inst) / period)
-        cand = float(np.min(inst + k * period))
+        cand = min(c + math.ceil((t + 1e-9 * period - c) / period) * period for c in inst)
         if cand < best - 1e-12 * period:
             best, who = cand, [name]
         elif abs(cand - best) <= 1e-12 * period:

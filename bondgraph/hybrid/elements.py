@@ -46,7 +46,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import ClassVar, Optional, Sequence
+from typing import ClassVar, Optional, Sequence, cast
 
 import sympy
 
@@ -89,7 +89,7 @@ class SwitchElement(Element):
         path ``cell.D`` included)."""
         if on == self.on:
             return self
-        el = rename(self, self.name)
+        el = cast(SwitchElement, rename(self, self.name))
         object.__setattr__(el, "on", bool(on))
         return el
 

@@ -42,7 +42,7 @@ from ..errors import AlgebraicLoopError, BondGraphWarning, CausalityError, Outpu
 from ..flatten import FlatGraph, flatten
 from ..graph import BondGraph
 from ..model import Model
-from .elements import SwitchElement, gate_signals
+from .elements import Diode, SwitchElement, gate_signals
 from .errors import ModeError
 
 __all__ = ["Mode", "ModeModel", "ModeSet"]
@@ -173,6 +173,12 @@ class ModeSet:
         #: outputs (an integrator state of one of them carries over between modes)
         self.guard_signals: tuple = tuple(signals)
         self._cache: dict = {}
+
+    def __getstate__(self) -> dict:
+        # the compiled numbers of past simulations are functions: not pickled, rebuilt when asked
+        state = dict(self.__dict__)
+        state.pop("_numeric", None)
+        return state
 
     def element(self, name: str) -> SwitchElement:
         """The element named ``name`` (a switch, or any other element of the graph)."""
@@ -316,7 +322,7 @@ def _warn_reversed_diodes(flat: FlatGraph, switches: Iterable[str]) -> None:
     """A :class:`~bondgraph.BondGraphWarning` for each diode bonded away from itself."""
     for name in switches:
         el = flat.element(name)
-        if not getattr(el, "self_switched", False):
+        if not isinstance(el, Diode):
             continue
         for b in flat.incidence.get(name, ()):
             bond = flat.bonds[b]
