@@ -201,6 +201,9 @@ class Run:
         cands, tried = [], []
         watch = tuple(dict.fromkeys(tuple(check) + tuple(trigger or ())))
         for k, mode in self._candidates(proposed, free):
+            if cands and min(c[0] for c in cands)[:2] == (False, False) and k > min(
+                    c[0] for c in cands)[2]:
+                break       # a candidate that holds without a jump, with fewer flips: the best
             cm = self.compiled(mode)
             if cm is None:
                 continue
