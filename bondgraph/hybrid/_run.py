@@ -28,6 +28,7 @@ from .modes import Mode, ModeSet
 
 __all__ = ["Run"]
 
+_NO_INPUTS = np.zeros(0)
 #: most events at one instant that leave the mode as it was
 _SAME_INSTANT = 100
 
@@ -131,6 +132,8 @@ class Run:
 
     # ------------------------------------------------------------ numbers
     def u(self, t: float) -> np.ndarray:
+        if not self._u:
+            return _NO_INPUTS
         return np.array([f(t) for f in self._u], dtype=float)
 
     def compiled(self, mode: Mode) -> Optional[CompiledMode]:

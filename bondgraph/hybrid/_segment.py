@@ -181,7 +181,7 @@ def _integrate_exact(cm, flow, t, x, t_stop, timed, u, watch, armed, arm_level, 
         clock(a)
         b = min(t_stop, a + flow.step)
         ts = a + (b - a) * _FRACTIONS
-        ys = dense(ts)
+        ys = flow.samples(_FRACTIONS, a - t, b - a, dense.c)
         hit, G = _locate(cm, dense, a, b, n, g_prev, watch, armed, arm_level, guard_tol, u, where,
                          samples=(ts, ys))
         if hit is not None:
