@@ -49,12 +49,19 @@ class EnergyMetric:
         H = H.xreplace(subs)
         self.n = len(qs)
         self._H = _lambdify(qs, [H])
-        self._Q = _lambdify(qs, list(sympy.hessian(H, qs))) if qs else None
+        hess = sympy.hessian(H, qs) if qs else None
+        self._Q = _lambdify(qs, list(hess)) if hess is not None else None
+        #: the Hessian when the energy is quadratic (a constant), else None
+        self.constant: Optional[np.ndarray] = None
+        if hess is not None and not hess.free_symbols:
+            self.constant = np.array(hess.tolist(), dtype=np.float64)
 
     def energy(self, q: np.ndarray) -> float:
         return float(self._H(*q)[0]) if self.n else 0.0
 
     def hessian(self, q: np.ndarray) -> np.ndarray:
+        if self.constant is not None:
+            return self.constant
         if self._Q is None:
             return np.zeros((0, 0))
         return np.asarray(self._Q(*q), dtype=np.float64).reshape(self.n, self.n)
@@ -114,6 +121,10 @@ class CompiledMode:
         self.affine = not (J.free_symbols & set(x))
         zero = {s: 0 for s in x}
         self._M = _lambdify((T_SYM, *inputs), list(J)) if self.affine else None
+        #: the re-initialisation's affine map does not read time or inputs
+        self._constant_map = self.affine and not ((J.free_symbols | set().union(
+            *(sympy.sympify(e).free_symbols for e in q_exprs)) - set(x)) & ({T_SYM} | set(inputs)))
+        self._projection: Optional[tuple] = None
         self._c = _lambdify((T_SYM, *inputs), [e.xreplace(zero) for e in q_exprs]) if self.affine else None
         # guards in this mode's variables: each switch's guard with its signals replaced
         sig_map = dict(zip(sm.guard_signals, s_exprs))
@@ -275,16 +286,27 @@ class CompiledMode:
                 "derivative causality with stored quantities that are not affine in the "
                 "mode's states; the state re-initialisation needs linear storage laws there")
         assert self._M is not None and self._c is not None     # affine, checked above
-        M = np.asarray(self._M(t, *u), dtype=np.float64).reshape(len(q_old), n)
-        c = np.asarray(self._c(t, *u), dtype=np.float64).reshape(-1)
-        if n:
-            Q = metric.hessian(q_old)
-            A = M.T @ Q @ M
-            xs = np.linalg.solve(A, M.T @ Q @ (q_old - c))
+        proj = self._projection
+        if proj is not None:        # M, c and the energy metric constant: found once
+            P, M, c = proj
+            xs = P @ (q_old - c)
             x[:n] = xs
             q_new = M @ xs + c
         else:
-            q_new = c
+            M = np.asarray(self._M(t, *u), dtype=np.float64).reshape(len(q_old), n)
+            c = np.asarray(self._c(t, *u), dtype=np.float64).reshape(-1)
+            if n:
+                Q = metric.hessian(q_old)
+                P = np.linalg.solve(M.T @ Q @ M, M.T @ Q)
+                xs = P @ (q_old - c)
+                x[:n] = xs
+                q_new = M @ xs + c
+                if self._constant_map and metric.constant is not None:
+                    self._projection = (P, M, c)
+            else:
+                q_new = c
+                if self._constant_map:
+                    self._projection = (np.zeros((0, len(q_old))), M, c)
         loss = metric.energy(q_old) - metric.energy(q_new)
         return x, q_new, loss
 

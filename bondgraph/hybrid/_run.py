@@ -28,6 +28,7 @@ from .modes import Mode, ModeSet
 
 __all__ = ["Run"]
 
+_NO_INPUTS = np.zeros(0)
 #: most events at one instant that leave the mode as it was
 _SAME_INSTANT = 100
 
@@ -131,6 +132,8 @@ class Run:
 
     # ------------------------------------------------------------ numbers
     def u(self, t: float) -> np.ndarray:
+        if not self._u:
+            return _NO_INPUTS
         return np.array([f(t) for f in self._u], dtype=float)
 
     def compiled(self, mode: Mode) -> Optional[CompiledMode]:
@@ -159,6 +162,22 @@ class Run:
                     raise HybridError(f"model {self.sm.name!r}: the guard of switch {name!r}: {exc}") from None
             out[name] = self._falls[key]
         return out
+
+    def _time_event(self, cm: CompiledMode, t: float) -> Optional[tuple]:
+        """The next fall of the periodic guards of ``cm`` after ``t``, moved to the first
+        instant at which they are negative (a fall shifted by whole periods lands a few
+        roundings before a jump)."""
+        hit = next_time_event(self.falls(cm, t), t, self.opts.t1)
+        if hit is None:
+            return None
+        tp, names = hit
+        step = math.ulp(tp)
+        for _ in range(60):
+            if all(float(cm.time_guards[n](tp)) < 0 for n in names):
+                break
+            tp += step
+            step *= 2
+        return (tp, names) if tp < self.opts.t1 else None
 
     def initial_state(self, x0) -> tuple[np.ndarray, dict, dict]:
         """``(q_all, integrators, given signals)`` from ``x0``."""
@@ -201,6 +220,9 @@ class Run:
         cands, tried = [], []
         watch = tuple(dict.fromkeys(tuple(check) + tuple(trigger or ())))
         for k, mode in self._candidates(proposed, free):
+            if cands and min(c[0] for c in cands)[:2] == (False, False) and k > min(
+                    c[0] for c in cands)[2]:
+                break       # a candidate that holds without a jump, with fewer flips: the best
             cm = self.compiled(mode)
             if cm is None:
                 continue
@@ -336,7 +358,7 @@ class Run:
             where = f"model {sm.name!r}, mode ({mode})"
             seg = integrate(cm, t, x, o.t1, u=self.u, method=o.method, rtol=o.rtol, atol=o.atol,
                             max_step=o.max_step, guard_tol=o.guard_tol, armed=armed,
-                            arm_level=level, time_event=next_time_event(self.falls(cm, t), t, o.t1),
+                            arm_level=level, time_event=self._time_event(cm, t),
                             first_step=steps.get(mode), record=lambda ts, ys, cm=cm: rec.add(cm, ts, ys),
                             evals=o.t_eval, clock=check_clock, where=where)
             if seg.last_step > 0:

@@ -105,7 +105,7 @@ def integrate(cm: CompiledMode, t: float, x: np.ndarray, t_end: float, *, u: Cal
     if n_x == 0 and cm.affine_flow is not None:
         return _integrate_exact(cm, cm.affine_flow, t, np.asarray(x, dtype=float), t_stop,
                                 tuple(timed) if t_stop < t_end else (), u, watch, armed, arm_level,
-                                guard_tol, record, evals, clock, where)
+                                guard_tol, record, evals, clock, where, max_step)
     y0 = np.concatenate([np.asarray(x, dtype=float), np.zeros(n_x)])
     uc = u
 
@@ -137,7 +137,7 @@ def integrate(cm: CompiledMode, t: float, x: np.ndarray, t_end: float, *, u: Cal
             raise HybridError(f"{where}: the integrator failed at t = {solver.t:.6g}: {msg}")
         a, b = solver.t_old, solver.t
         dense = solver.dense_output()
-        hit = _locate(cm, dense, a, b, n, g_prev, watch, armed, arm_level, guard_tol, uc, where)
+        hit, _ = _locate(cm, dense, a, b, n, g_prev, watch, armed, arm_level, guard_tol, uc, where)
         if hit is not None:
             te, fired = hit
             ye = np.asarray(dense(te), dtype=float)
@@ -165,10 +165,10 @@ class _Exact:
         return self.flow.from_coefficients(s, self.t0, self.c)
 
 
-def _integrate_exact(cm, flow, t, x, t_stop, timed, u, watch, armed, arm_level, tol, record, evals,
-                     clock, where) -> Segment:
+def _integrate_exact(cm, flow, t, x, t_stop, timed, u, watch, armed, arm_level, guard_tol, record,
+                     evals, clock, where, max_step=math.inf) -> Segment:
     """:func:`integrate` for a mode with an exact affine flow: guards sampled on the exact
-    solution in steps of at most a fifth of the fastest time constant."""
+    solution in steps of at most a fifth of the fastest time constant (and ``max_step``)."""
     n = len(x)
     dense = _Exact(flow, t, x)
     names = cm.guard_names
@@ -179,18 +179,27 @@ def _integrate_exact(cm, flow, t, x, t_stop, timed, u, watch, armed, arm_level, 
     a = t
     while True:
         clock(a)
-        b = min(t_stop, a + flow.step)
-        hit = _locate(cm, dense, a, b, n, g_prev, watch, armed, arm_level, tol, u, where)
-        # no solver steps to sample at: the guards' sample points are the samples
-        grid = a + (b - a) * _FRACTIONS if evals is None else evals
+        b = min(t_stop, a + min(flow.step, max_step))
+        ts = a + (b - a) * _FRACTIONS
+        ys = flow.samples(_FRACTIONS, a - t, b - a, dense.c)
+        hit, G = _locate(cm, dense, a, b, n, g_prev, watch, armed, arm_level, guard_tol, u, where,
+                         samples=(ts, ys))
         if hit is not None:
             te, fired = hit
-            _record_dense(cm, dense, a, te, n, record, grid, include_end=False)
+            if evals is None:
+                keep = ts < te
+                if keep.any():
+                    record(ts[keep], ys[:, keep])
+            else:
+                _record_dense(cm, dense, a, te, n, record, evals, include_end=False)
             return Segment(te, dense(te), fired, 0.0)
-        _record_dense(cm, dense, a, b, n, record, grid, include_end=True)
+        if evals is None:
+            record(ts, ys)      # no solver steps to sample at: the guards' sample points
+        else:
+            _record_dense(cm, dense, a, b, n, record, evals, include_end=True)
         if b >= t_stop:
-            return Segment(t_stop, dense(t_stop), timed, 0.0)
-        g_prev = _guards(cm, b, dense(b), u(b), where)
+            return Segment(t_stop, ys[:, -1].copy(), timed, 0.0)
+        g_prev = G[:, -1] if G is not None else _guards(cm, b, ys[:, -1], u(b), where)
         a = b
 
 
@@ -203,12 +212,16 @@ def _guards(cm: CompiledMode, t: float, x, u, where: str) -> np.ndarray:
     return g
 
 
-def _locate(cm, dense, a, b, n, g_prev, watch, armed, arm_level, tol, u, where):
-    """The first guard fall in ``(a, b]`` on the dense output: ``(te, names)`` or None."""
+def _locate(cm, dense, a, b, n, g_prev, watch, armed, arm_level, tol, u, where, samples=None):
+    """The first guard fall in ``(a, b]`` on the dense output: ``((te, names) or None, G)``,
+    ``G`` the guards at the sample points (None when nothing is watched)."""
     if not watch:
-        return None
-    ts = a + (b - a) * _FRACTIONS
-    ys = np.asarray(dense(ts), dtype=float)
+        return None, None
+    if samples is None:
+        ts = a + (b - a) * _FRACTIONS
+        ys = np.asarray(dense(ts), dtype=float)
+    else:
+        ts, ys = samples
     G = cm.guard_matrix(ts, ys[:n], _inputs(u, ts))
     if not np.all(np.isfinite(G)):
         k, j = (int(v[0]) for v in np.nonzero(~np.isfinite(G)))
@@ -228,7 +241,7 @@ def _locate(cm, dense, a, b, n, g_prev, watch, armed, arm_level, tol, u, where):
             quiet = False
             break
     if quiet:
-        return None
+        return None, G
     best = None
     prev_t, prev = a, g_prev
     for j, s in enumerate(ts):
@@ -249,13 +262,13 @@ def _locate(cm, dense, a, b, n, g_prev, watch, armed, arm_level, tol, u, where):
             break
         prev_t, prev = s, cur
     if best is None:
-        return None
+        return None, G
     te = best[0]
     y = np.asarray(dense(te), dtype=float)[:n]
     g = _guards(cm, te, y, u(te), where)
     fired = tuple(names[k] for k in watch
                   if g[k] < (0.0 if armed.get(names[k], False) else -tol) or k == best[1])
-    return te, fired
+    return (te, fired), G
 
 
 def _inputs(u, ts: np.ndarray) -> np.ndarray:

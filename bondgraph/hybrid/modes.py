@@ -70,6 +70,13 @@ class Mode:
     def __post_init__(self) -> None:
         object.__setattr__(self, "on", frozenset(self.on))
         object.__setattr__(self, "off", frozenset(self.off))
+        object.__setattr__(self, "_hash", hash((self.on, self.off)))
+
+    def __hash__(self) -> int:      # modes key the caches of every event: hashed once
+        return self._hash           # type: ignore[attr-defined]
+
+    def __reduce__(self):           # the hash of str differs between processes: not pickled
+        return (Mode, (self.on, self.off))
 
     def is_on(self, name: str) -> bool:
         """Whether switch ``name`` is on in this mode."""

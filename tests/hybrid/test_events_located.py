@@ -316,3 +316,12 @@ def test_a_blocked_diode_touching_zero_is_neither_an_event_nor_chattering():
                    chatter_count=2)
     assert not res.events and {str(m) for m in res.modes} == {"D off"}
     assert np.all(res.outputs["v"] == 10.0)
+
+
+def test_the_time_budget_is_checked_inside_one_long_segment():
+    # a ball coming to rest on the ground spring: one endless segment without events
+    sm = SwitchedModel(library.bounce(), outputs={"h": bg.displacement("ball")})
+    with pytest.raises(EventBudgetError, match="time budget of 0.3 s") as info:
+        simulate(sm, (0, 1e9), {"h": 1.0}, values={"m": 1, "g": 9.81, "r": 1, "k_g": 100},
+                 time_budget=0.3)
+    assert 0 < info.value.result.t[-1] < 1e9
