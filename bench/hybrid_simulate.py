@@ -13,8 +13,8 @@ t = 0.9995 s.
 """
 
 import argparse
-import time
 import resource
+import time
 
 import numpy as np
 
