@@ -240,6 +240,57 @@ def test_an_elastic_component_between_two_masses_exchanges_their_velocities():
     assert (res.outputs["v1"][-1], res.outputs["v2"][-1]) == pytest.approx((0.0, v1), abs=1e-9)
 
 
+def _two_body_case(seed):
+    """A random damped contact between two masses, built in a random order and orientation."""
+    rng = np.random.default_rng(seed)
+    m1, m2 = 10 ** rng.uniform(-1, 1, 2)                  # two decades of masses
+    mu = m1 * m2 / (m1 + m2)
+    k = 10 ** rng.uniform(1, 3)
+    b = rng.uniform(0.05, 0.9) * 2 * math.sqrt(k * mu)    # underdamped relative motion
+    v1, v2 = rng.uniform(-1, 2), rng.uniform(-2, 1)
+    if v1 - v2 < 0.2:
+        v1 += 0.5 - (v1 - v2)                              # approaching
+    clearance = rng.uniform(0.01, 0.5)
+    flip = bool(rng.integers(2))                           # which body is port a of the contact
+    g = bg.BondGraph(f"pair{seed}")
+    parts = [Mass("m1", mass="m1"), Mass("m2", mass="m2"), bg.One("v1"), bg.One("v2"),
+             UnilateralContact("c", stiffness="k", damping="b", clearance="gap")]
+    for i in rng.permutation(len(parts)):
+        g.add(parts[i])
+    a, bb = ("v2", "v1") if flip else ("v1", "v2")
+    bonds = [("v1", "m1.p"), ("v2", "m2.p"), (a, "c.a"), ("c.b", bb)]
+    for i in rng.permutation(len(bonds)):
+        g.connect(*bonds[i])
+    if flip:                                               # the contact then closes as v2 - v1 > 0
+        v1, v2 = v2, v1
+    return g, dict(m1=m1, m2=m2, k=k, b=b, gap=clearance), (v1, v2), flip
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_random_two_body_contacts_conserve_momentum_and_release_at_zero_force(seed):
+    # relative motion: mu x'' + b x' + k x = 0 from x = 0, x' = w0 (the closing speed), released
+    # when k x + b x' = 0: wd t = atan2(b wd, b s - k); the centre of mass moves on unchanged
+    g, vals, (v1, v2), flip = _two_body_case(seed)
+    m1, m2, k, b = vals["m1"], vals["m2"], vals["k"], vals["b"]
+    mu = m1 * m2 / (m1 + m2)
+    s = b / (2 * mu)
+    wd = math.sqrt(k / mu - s * s)
+    va, vb, ma, mb = (v2, v1, m2, m1) if flip else (v1, v2, m1, m2)
+    w0 = va - vb
+    t_in = vals["gap"] / w0
+    t_r = math.atan2(b * wd, b * s - k) / wd
+    w_out = w0 * math.exp(-s * t_r) * (math.cos(wd * t_r) - s / wd * math.sin(wd * t_r))
+    V = (m1 * v1 + m2 * v2) / (m1 + m2)
+    va_out, vb_out = V + mb / (m1 + m2) * w_out, V - ma / (m1 + m2) * w_out
+    sm = SwitchedModel(g, outputs={"va": bg.flow("v2" if flip else "v1"), "vb": bg.flow("v1" if flip else "v2")})
+    t_end = t_in + t_r + 0.1
+    res = bg.simulate(sm, vals, (0, t_end), {"p_m1.I": m1 * v1, "p_m2.I": m2 * v2}, **TOL)
+    assert [e.time for e in res.events] == pytest.approx([t_in, t_in + t_r], rel=1e-8, abs=1e-10)
+    assert w_out < 0                                        # they separate
+    assert (res.outputs["va"][-1], res.outputs["vb"][-1]) == pytest.approx((va_out, vb_out), rel=1e-7,
+                                                                           abs=1e-9)
+
+
 # ---------------------------------------------------------------- bad input
 def test_bad_contact_parameters_are_named():
     with pytest.raises(bg.BondGraphError, match=r"Ct:K: clearance flow\[m\] must be .*no signals"):
