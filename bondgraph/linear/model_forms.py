@@ -148,9 +148,10 @@ def transfer_function(eqs: StateEquations, input=None, output=None, *,
                                  input_names=eqs.input_names,
                                  output_names=(eqs.output_names[i],), s=s, **options)
     augmented = getattr(eqs, "augmented", None)
-    fields = () if augmented is None else tuple(
+    fields = () if augmented is None else tuple(       # fields (definite) and elements' rules
         el for el in augmented.flat.elements
-        if getattr(el, "matrix", None) is not None and hasattr(el, "check_values"))
+        if (getattr(el, "matrix", None) is not None and hasattr(el, "check_values"))
+        or el.value_rules())
     return G._with_metadata(known_parameters=eqs.known_parameters, value_checks=fields)
 
 

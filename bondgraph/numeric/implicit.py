@@ -43,6 +43,7 @@ from ..equations import StateEquations
 from ..errors import BondGraphError
 from ..linear import Equilibrium, EquilibriumError
 from ..parameters import ParameterValues, match_values, real_value
+from ..elements.rules import check_model_values
 from ..signals import t as T_SYM
 from ._compile import CompiledFunction, guard_user_functions, placeholders
 from .errors import SimulationError
@@ -245,6 +246,7 @@ def implicit_plant(model: StateEquations, point: Any, inputs: Optional[Mapping],
                                f"{', '.join(missing)}")
     params = match_values(model.parameters, values, known=model.known_parameters, where=where)
     pvals = {p: real_value(v, p.name, where) for p, v in params.items()}
+    check_model_values(model, {p.name: v for p, v in pvals.items()}, where=where)
     at = {**{s: float(x0[s.name]) for s in model.states},
           **{u: float(u0.get(u.name, 0.0)) for u in model.inputs}, **pvals}
     z_syms = list(model.algebraic)

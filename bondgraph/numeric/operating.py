@@ -26,6 +26,7 @@ from ..errors import BondGraphError
 from ..linear import Equilibrium, EquilibriumError, linearize
 from ..linear.operating import equilibrium_scaled
 from ..parameters import ParameterValues, match_values, real_value
+from ..elements.rules import check_model_values
 from .implicit import implicit_plant
 from .statespace import NumericStateSpace
 
@@ -50,6 +51,7 @@ def linear_plant(model: StateEquations, point: Equilibrium | Mapping, inputs: Op
         x0, u0 = dict(point or {}), dict(inputs or {})
     params = match_values(model.parameters, values, known=model.known_parameters, where=where)
     pvals = {p: sympy.Float(real_value(v, p.name, where), 17) for p, v in params.items()}
+    check_model_values(model, {p.name: float(v) for p, v in pvals.items()}, where=where)
     if _at_kink(model, x0, u0, pvals):
         # sign(0)**2 = 0 in a symbolic slope that is a/(2 sqrt b) from both sides: the mean
         # of the plants just beside the point (the point itself is checked first)
