@@ -140,7 +140,7 @@ class ModelDefinition:
                 raise ModelFileError(
                     f"ModelDefinition.parameters: key {key!r} must be a parameter name (str)")
             if isinstance(value, sympy.Basic) and _carries_units(value):
-                values[key] = _finite(_si(value), key)
+                values[key] = _finite(_si(value, key), key)
             else:
                 values[key] = _finite(value, key)
             given[key] = value
@@ -291,11 +291,14 @@ def _carries_units(value: sympy.Basic) -> bool:
     return bool(value.atoms(Quantity))
 
 
-def _si(value: sympy.Basic) -> Any:
+def _si(value: sympy.Basic, name: str) -> Any:
     """A unit-carrying value in SI (the dimensional check then tells whether it fits)."""
-    from .library.units.check import si_values
+    from .library.units.check import UnitError, si_values
 
-    return si_values({"_": value})["_"]
+    try:
+        return si_values({name: value})[name]
+    except UnitError as exc:
+        raise ModelFileError(f"default value of {exc}") from None
 
 
 def _short(value: Any) -> str:

@@ -26,7 +26,7 @@ from ...flatten import FlatGraph, flatten
 from ...graph import BondGraph, walk
 from ...elements.protocol import Element, LocalVariables
 from ...signals import t as T_SYM
-from ._dims import ZERO, Dim, Mismatch, Unknown, dims_of, si_value, text, unit_dims
+from ._dims import BadQuantity, ZERO, Dim, Mismatch, Unknown, dims_of, si_value, text, unit_dims
 
 __all__ = ["Domain", "DOMAINS", "UnitError", "UnitReport", "bond_domains", "check_units",
            "si_values", "signal_units"]
@@ -94,7 +94,16 @@ def si_values(values: Mapping[str, Any]) -> dict[str, Any]:
     >>> f"{si['Jm']:g}", si["Rm"]
     ('3.87e-07', 2.6)
     """
-    return {k: (si_value(v)[0] if _carries_units(v) else v) for k, v in values.items()}
+    return {k: (_si(v, k)[0] if _carries_units(v) else v) for k, v in values.items()}
+
+
+def _si(value: Any, name: str) -> tuple:
+    """:func:`si_value` of parameter ``name``'s value; a bad quantity is a :class:`UnitError`."""
+    try:
+        return si_value(value)
+    except BadQuantity as exc:
+        raise UnitError(f"parameter {name!r}: the value {value} is not a number with a unit: "
+                        f"{exc}") from None
 
 
 # ---------------------------------------------------------------- domains
@@ -227,10 +236,15 @@ class _DimLocal(LocalVariables):
         self.states = ()
         self.input_symbol = sympy.Dummy(f"u_{el.name}")
         self._inputs = []
+        #: the placeholders by the names messages show: the bond variable (``e_3``: the
+        #: effort of bond 3), never an internal name
+        self.shown: dict = {}
         for p, dims in enumerate(port_dims):
             sym = sympy.Dummy(f"in{p}")
             known[sym] = None if dims is None else dims[0 if effort_in[p] else 1]
             self._inputs.append(sym)
+            self.shown[sym] = sympy.Symbol(f"{'e' if effort_in[p] else 'f'}_{self._inc[p] + 1}")
+        self.shown[self.input_symbol] = sympy.Symbol(el.name)
 
     def sign(self, port: int) -> int:
         return 1 if self.into(port) else -1
@@ -253,7 +267,7 @@ def _parameter_dims(values: Mapping[str, Any]) -> tuple[dict, dict]:
     shown: dict[str, str] = {}
     for name, v in values.items():
         if _carries_units(v):
-            _, d, unit = si_value(v)
+            _, d, unit = _si(v, name)
             dims[name], shown[name] = d, unit
         elif isinstance(v, (int, float)) and not isinstance(v, bool):
             dims[name] = None     # a bare number: no units declared
@@ -345,13 +359,22 @@ def check_units(graph: Union[BondGraph, FlatGraph], values: Mapping[str, Any], *
                 given = ", ".join(f"{s.name} in {shown[s.name]}" for s in
                                   sorted(rel.free_symbols, key=str) if s.name in shown)
                 raise UnitError(f"{el.label()}: its relation on bond {inc[p] + 1} adds or "
-                                f"transforms quantities of different units ({exc}); its "
+                                f"transforms quantities of different units "
+                                f"({_readable(exc, local)}); its "
                                 f"parameters: {given or 'none with units'}") from None
             if got[:-1] != want[:-1]:
                 raise UnitError(_culprit(el, rel, known, got, want, inc[p] + 1,
-                                         doms[inc[p] + 1], shown))
+                                         doms[inc[p] + 1], shown, rel.xreplace(local.shown)))
             checked += 1
     return UnitReport(doms, checked, tuple(unchecked), units, dims)
+
+
+def _readable(exc: Exception, local: _DimLocal) -> str:
+    """An exception's text with the placeholders' internal names replaced by bond variables."""
+    out = str(exc)
+    for dummy, name in local.shown.items():
+        out = out.replace(str(dummy), str(name))
+    return out
 
 
 def _learn(exprs, known: dict, pdims: Mapping[str, Optional[Dim]]) -> None:
@@ -362,7 +385,7 @@ def _learn(exprs, known: dict, pdims: Mapping[str, Optional[Dim]]) -> None:
                 known[sym] = pdims.get(sym.name)
 
 
-def _culprit(el, rel, known, got, want, bond, dom, shown) -> str:
+def _culprit(el, rel, known, got, want, bond, dom, shown, printed) -> str:
     d = DOMAINS[dom]
     need = f"(effort {text(d.effort_dims)}, flow {text(d.flow_dims)})"
     params = [s for s in rel.free_symbols if type(s) is sympy.Symbol and known.get(s) is not None
@@ -374,7 +397,7 @@ def _culprit(el, rel, known, got, want, bond, dom, shown) -> str:
             expected = tuple(k + (w - g) / a for k, w, g in zip(known[p], want, got))
             return (f"{el.label()}, parameter {p.name}: its value has the unit {shown[p.name]} "
                     f"({text(known[p])}), but its {dom} bond {bond} needs {text(expected)} {need}")
-    return (f"{el.label()}: its relation {rel} on its {dom} bond {bond} has the unit {text(got)}, "
+    return (f"{el.label()}: its relation {printed} on its {dom} bond {bond} has the unit {text(got)}, "
             f"expected {text(want)} {need}")
 
 

@@ -46,7 +46,7 @@ def model_units(model: Model, graph: BondGraph, values: Mapping[str, Any], *,
     refused here too); an output whose dimension cannot be known (a
     parameter without units in it) is left out.
     """
-    from .check import check_units
+    from .check import _si, check_units
 
     report = check_units(graph, values, domains=domains)
     out: dict[str, Dim] = {}
@@ -56,7 +56,7 @@ def model_units(model: Model, graph: BondGraph, values: Mapping[str, Any], *,
             out[sym.name] = known[sym] = report.dims[sym.name]
     for name, v in values.items():
         if isinstance(v, sympy.Basic) and v.atoms(u.Quantity):
-            d = si_value(v)[1]
+            d = _si(v, name)[1]
             for p in model.parameters:
                 if p.name == name:
                     known[p] = d
