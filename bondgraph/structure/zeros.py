@@ -43,6 +43,7 @@ import scipy.linalg
 import sympy
 
 from ..errors import BondGraphWarning
+from ..parameters import real_value
 from ..model import Model, derive
 from ._generic import LinearForm, StructureError, at_point, linear_form, random_points
 from ._paths import signal_digraph
@@ -183,6 +184,11 @@ class ZeroStructure:
 
 
 def _subs(expr, values: Mapping[str, float]) -> dict:
+    if not isinstance(values, Mapping):
+        raise StructureError(f"values must be a mapping of parameter name to number; got "
+                             f"{type(values).__name__}")
+    values = {str(getattr(k, "name", k)): real_value(v, str(getattr(k, "name", k)))
+              for k, v in values.items()}       # every value given: finite and real
     syms = {s.name: s for s in expr.free_symbols}
     missing = sorted(n for n in syms if n not in values and n != "s")
     if missing:
