@@ -254,7 +254,7 @@ class OnePort(_OneBond):
     inverse: LawLike = None
     #: an element negative on purpose (a negative resistance, an amplifier): its
     #: parameter's sign is not checked (:mod:`bondgraph.elements.rules`)
-    active: bool = field(default=False, kw_only=True)
+    active: bool = field(default=False, kw_only=True, repr=False)
     own: ClassVar[LawVariable] = P_VAR
     inverse_own: ClassVar[LawVariable] = F_VAR
     law_name: ClassVar[str] = ""

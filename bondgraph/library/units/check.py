@@ -23,7 +23,8 @@ import sympy.physics.units as u
 
 from ...errors import BondGraphError
 from ...flatten import FlatGraph, flatten
-from ...graph import BondGraph, walk
+from ...domains import DomainError, given_seeds, infer_domains
+from ...graph import BondGraph
 from ...elements.protocol import Element, LocalVariables
 from ...signals import t as T_SYM
 from ._dims import BadQuantity, ZERO, Dim, Mismatch, Unknown, dims_of, si_value, text, unit_dims
@@ -73,13 +74,6 @@ DOMAINS: dict[str, Domain] = {d.name: d for d in (
 _TIME = unit_dims(u.second)
 
 
-def _domain(name: object, where: str) -> str:
-    if not isinstance(name, str) or name not in DOMAINS:
-        raise UnitError(f"{where}: unknown domain {name!r}; expected one of "
-                        f"{', '.join(DOMAINS)}")
-    return name
-
-
 # ---------------------------------------------------------------- values
 def _carries_units(value: Any) -> bool:
     return isinstance(value, sympy.Basic) and bool(value.atoms(u.Quantity))
@@ -107,34 +101,22 @@ def _si(value: Any, name: str) -> tuple:
 
 
 # ---------------------------------------------------------------- domains
-def _seeds_from_components(graph: BondGraph, flat: FlatGraph) -> list[tuple[int, str, str]]:
-    """(flat bond index, domain, who) for every port of a library component."""
-    seeds = []
-    for prefix, sub in walk(graph):
-        port_domains = getattr(sub, "port_domains", None)
-        if not port_domains or not prefix:
-            continue
-        inner = prefix                        # the component's own path, with its dot
-        for b in sub.bonds:
-            for port, other, port_is_tail in ((b.tail, b.head, True), (b.head, b.tail, False)):
-                if port not in sub.ports or port not in port_domains:
-                    continue
-                who = f"port {inner}{port} of component {type(sub).__name__}"
-                path = inner + port
-                if path in flat.index:       # the port became a 0-junction
-                    ks = list(flat.incidence[path])
-                else:
-                    ks = [k for k in flat.incidence.get(inner + other, ())
-                          if (flat.bonds[k].head == inner + other) == port_is_tail
-                          and not (flat.bonds[k].tail if port_is_tail else
-                                   flat.bonds[k].head).startswith(inner)]
-                seeds += [(k, port_domains[port], who) for k in ks]
-    return seeds
+def _flat(graph: Union[BondGraph, FlatGraph]) -> FlatGraph:
+    """``flatten(graph)``; conflicting domains are a :class:`UnitError` here."""
+    if isinstance(graph, FlatGraph):
+        return graph
+    try:
+        return flatten(graph)
+    except DomainError as exc:
+        raise UnitError(str(exc)) from None
 
 
 def bond_domains(graph: Union[BondGraph, FlatGraph], *,
                  domains: Optional[Mapping[Union[str, int], str]] = None) -> dict[int, str]:
     """The domain of each bond (flat bond number -> domain name) that can be inferred.
+
+    The inference of :mod:`bondgraph.domains` (which :func:`bondgraph.flatten`
+    runs on every graph), with the ``domains`` a user names as further seeds.
 
     Parameters
     ----------
@@ -159,45 +141,12 @@ def bond_domains(graph: Union[BondGraph, FlatGraph], *,
     >>> bond_domains(g, domains={"V": "electrical", "J": "rotation"})
     {1: 'electrical', 2: 'electrical', 3: 'electrical', 4: 'rotation', 5: 'rotation'}
     """
-    flat = graph if isinstance(graph, FlatGraph) else flatten(graph)
-    parent = list(range(len(flat.bonds)))
-
-    def find(k: int) -> int:
-        while parent[k] != k:
-            parent[k] = parent[parent[k]]
-            k = parent[k]
-        return k
-
-    for el in flat.elements:
-        inc = flat.incidence[el.name]
-        for group in el.domain_groups(len(inc)):
-            for p in group[1:]:
-                parent[find(inc[p])] = find(inc[group[0]])
-    seeds: list[tuple[int, str, str]] = []
-    for el in flat.elements:
-        inc = flat.incidence[el.name]
-        into = [flat.bonds[k].head == el.name for k in inc]
-        for p, dom in el.fixed_domains(into).items():
-            seeds.append((inc[p], _domain(dom, el.label()), el.label()))
-    if isinstance(graph, BondGraph):
-        seeds += _seeds_from_components(graph, flat)
-    for key, dom in (domains or {}).items():
-        if isinstance(key, int) and not isinstance(key, bool):
-            flat.bond(key)
-            seeds.append((key - 1, _domain(dom, f"bond {key}"), f"bond {key} (given)"))
-            continue
-        el = flat.element(str(key))
-        inc = flat.incidence[el.name]
-        group = el.domain_groups(len(inc))[0]
-        seeds.append((inc[group[0]], _domain(dom, el.label()), f"{el.label()} (given)"))
-    found: dict[int, tuple[str, str]] = {}
-    for k, dom, who in seeds:
-        root = find(k)
-        if root in found and found[root][0] != dom:
-            raise UnitError(f"bond {k + 1} would be {dom} (from {who}) and {found[root][0]} "
-                            f"(from {found[root][1]}); a TF or GY must separate two domains")
-        found.setdefault(root, (dom, who))
-    return {k + 1: found[find(k)][0] for k in range(len(flat.bonds)) if find(k) in found}
+    flat = _flat(graph)
+    try:
+        return infer_domains(flat, graph if isinstance(graph, BondGraph) else None,
+                             given_seeds(flat, domains))
+    except DomainError as exc:
+        raise UnitError(str(exc)) from None
 
 
 # ---------------------------------------------------------------- the check
@@ -304,7 +253,7 @@ def check_units(graph: Union[BondGraph, FlatGraph], values: Mapping[str, Any], *
     """
     from ...causality import assign_causality
 
-    flat = graph if isinstance(graph, FlatGraph) else flatten(graph)
+    flat = _flat(graph)
     doms = bond_domains(graph, domains=domains)
     aug = assign_causality(flat)
     pdims, shown = _parameter_dims(values)
