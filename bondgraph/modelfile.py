@@ -155,6 +155,13 @@ class ModelDefinition:
             check_units(self.graph, given, domains=self.domains)     # a wrong unit fails here
             self._cache["given"] = given
 
+    def __reduce__(self):
+        # rebuilt from plain mappings (a MappingProxyType does not pickle), with the values
+        # as given (units kept), so the checks run again on unpickling
+        given = self._cache.get("given", self.parameters)
+        return (ModelDefinition, (self.graph, dict(self.outputs), dict(given), self.description,
+                                  dict(self.domains)))
+
     @property
     def name(self) -> str:
         """The graph's name."""
