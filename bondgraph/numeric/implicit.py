@@ -42,7 +42,8 @@ import sympy
 from ..equations import StateEquations
 from ..errors import BondGraphError
 from ..linear import Equilibrium, EquilibriumError
-from ..parameters import ParameterValues, match_values, real_value
+from ..errors import ParameterValueError
+from ..parameters import ParameterValues, match_values, real_value, note_inputs
 from ..elements.rules import check_model_values
 from ..signals import t as T_SYM
 from ._compile import CompiledFunction, guard_user_functions, placeholders
@@ -246,7 +247,10 @@ def implicit_plant(model: StateEquations, point: Any, inputs: Optional[Mapping],
     if missing:
         raise EquilibriumError(f"{where}the operating point gives no value for the state(s) "
                                f"{', '.join(missing)}")
-    params = match_values(model.parameters, values, known=model.known_parameters, where=where)
+    try:
+        params = match_values(model.parameters, values, known=model.known_parameters, where=where)
+    except ParameterValueError as exc:
+        raise note_inputs(exc, model.input_names) from None
     pvals = {p: real_value(v, p.name, where) for p, v in params.items()}
     check_model_values(model, {p.name: v for p, v in pvals.items()}, where=where)
     at = {**{s: float(x0[s.name]) for s in model.states},

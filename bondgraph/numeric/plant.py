@@ -309,7 +309,7 @@ class NumericModel(_CompiledModel):
         """
         as_sparse = self._is_sparse(sparse)
         vec = resolve_parameters(self._params, values, model=self._model.name,
-                                 known=self._known_parameters())
+                                 known=self._known_parameters(), inputs=self.input_names)
         check_model_values(self._model, dict(zip(self.parameter_names, vec)),
                            where=f"model {self._model.name!r}: ")
         vals = self._evaluate([np.float64(v) for v in vec], None)
@@ -354,7 +354,7 @@ class NumericModel(_CompiledModel):
         """
         as_sparse = self._is_sparse(sparse)
         arr = resolve_batch(self._params, values, model=self._model.name,
-                            known=self._known_parameters())
+                            known=self._known_parameters(), inputs=self.input_names)
         size = arr.shape[0]
         check_model_values(self._model, {n: arr[:, j] for j, n in enumerate(self.parameter_names)},
                            where=f"model {self._model.name!r}: ")

@@ -130,7 +130,8 @@ class NumericDynamics(_CompiledModel):
     def parameter_vector(self, values: ParameterValues) -> np.ndarray:
         """Checked parameter values in order (see :func:`~bondgraph.numeric.resolve_parameters`)."""
         return resolve_parameters(self._params, values, model=self._model.name,
-                                  known=self._model.known_parameters)
+                                  known=self._model.known_parameters,
+                                  inputs=self._model.input_names)
 
     def derivatives(self, t: float, x, u, p) -> np.ndarray:
         """``x'`` at time ``t``, state ``x`` (n,), input ``u`` (m,) and parameters ``p`` (k,).
