@@ -271,6 +271,38 @@ class ModelDefinition:
             plant = plant.with_units({k: v for k, v in self.units.items() if k in signals})
         return plant
 
+    def linearize(self, x0=None, u0=None, *, values: Mapping[str, float] | None = None,
+                  equilibrium: bool = True, tol: float = 1e-9):
+        """The numeric plant of the model linearized about ``(x0, u0)`` (or an
+        :class:`~bondgraph.linear.operating.Equilibrium`), at the default values overridden
+        by ``values``; it carries the model's units like :meth:`plant`.
+
+        See :meth:`bondgraph.Model.linearize` for the arguments.
+
+        Examples
+        --------
+        >>> import bondgraph as bg, sympy, sympy.physics.units as u
+        >>> g = bg.BondGraph("pend")
+        >>> g.add(bg.Se("T"), bg.One("w"), bg.I("J"),
+        ...       bg.C("grav", law=sympy.Symbol("k") * sympy.sin(bg.q)))
+        >>> for t, h in [("T", "w"), ("w", "J"), ("w", "grav")]: _ = g.connect(t, h)
+        >>> d = ModelDefinition(g, {"a": bg.displacement("grav")},
+        ...                     {"J": 2 * u.kilogram * u.meter**2, "k": 4 * u.newton * u.meter},
+        ...                     domains={"T": "rotation"})
+        >>> lin = d.linearize({"p_J": 0, "q_grav": 0}, {"T": 0})
+        >>> lin.A.tolist(), lin.units["q_grav"], lin.units["T"]
+        ([[0.0, -4.0], [0.5, 0.0]], '1 (dimensionless)', 'joule')
+        """
+        model = self.derive()
+        used = {p.name for p in model.parameters}
+        merged = {k: v for k, v in self.parameters.items() if k in used}
+        merged.update(values or {})
+        plant = model.linearize(x0, u0, values=merged, equilibrium=equilibrium, tol=tol)
+        if self.units:
+            signals = {*plant.state_names, *plant.input_names, *plant.output_names}
+            plant = plant.with_units({k: v for k, v in self.units.items() if k in signals})
+        return plant
+
     def to_control(self, values: Mapping[str, float] | None = None):
         """python-control ``StateSpace`` with labels, and ``units`` when the model declares
         them (see :meth:`plant` and :meth:`bondgraph.numeric.NumericStateSpace.to_control`)."""
