@@ -118,6 +118,12 @@ class FaultDiagnosis:
             derivatives the ARRs need (``2 k + 1`` for a ``k``-th derivative);
             a parameter value that is not a finite real number.
         """
+        for what, given in (("inputs", inputs), ("measurements", measurements),
+                            ("values", values)):
+            if not isinstance(given, Mapping):
+                raise StructureError(f"residuals: {what} must be a mapping of name to "
+                                     f"{'number' if what == 'values' else 'samples'}; got "
+                                     f"{type(given).__name__}")
         need = max((d.derivative_count for r in self.arrs for d in r.atoms(sympy.Derivative)),
                    default=0)
         t = _samples(t, "t")

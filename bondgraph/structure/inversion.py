@@ -177,6 +177,14 @@ def invert(model: Model, trajectory: sympy.Expr, *, input: Optional[str] = None,
         an expression of ``t``, zero dynamics without ``values``, or a
         non-minimum-phase pair (zeros named) without ``minimum_phase_part``.
     """
+    if not isinstance(model, Model):
+        raise StructureError(f"model: expected a derived bondgraph Model, got {type(model).__name__}")
+    if not isinstance(minimum_phase_part, bool):
+        raise StructureError(f"minimum_phase_part: expected True or False, got "
+                             f"{type(minimum_phase_part).__name__} {minimum_phase_part!r}")
+    if values is not None and not isinstance(values, Mapping):
+        raise StructureError(f"values: expected a mapping of parameter name to number, got "
+                             f"{type(values).__name__}")
     traj = sympy.sympify(trajectory, strict=True) if isinstance(trajectory, (int, float)) \
         else trajectory
     if not isinstance(traj, sympy.Expr):

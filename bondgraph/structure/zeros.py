@@ -138,7 +138,15 @@ class ZeroStructure:
         return np.linalg.eigvals(Av) if Av.size else np.array([])
 
     def minimum_phase(self, values: Mapping[str, float], *, tol: float = 1e-9) -> bool:
-        """Whether every invariant zero at ``values`` has a negative real part."""
+        """Whether every invariant zero at ``values`` has a negative real part.
+
+        Raises
+        ------
+        StructureError
+            ``tol`` not a finite number >= 0; a value missing, or not a finite
+            real number (naming the parameter).
+        """
+        _tolerance(tol)
         z = self.zeros_at(values)
         return bool(np.all(z.real < -tol * max(1.0, float(np.max(np.abs(z), initial=0.0)))))
 
@@ -148,6 +156,7 @@ class ZeroStructure:
         A collocated lossless pair has this property: between two consecutive
         poles (frequencies, counted once with their conjugates) lies one zero.
         """
+        _tolerance(tol)
         p, z = self.poles_at(values), self.zeros_at(values)
         scale = max(1.0, float(np.max(np.abs(np.concatenate([p, z])), initial=0.0)))
         if np.any(np.abs(p.real) > tol * scale) or np.any(np.abs(z.real) > tol * scale):
@@ -181,6 +190,12 @@ class ZeroStructure:
         if self.zeros is not None:
             lines.append(f"  zeros: {', '.join(str(z) for z in self.zeros) or '-'}")
         return "\n".join(lines)
+
+
+def _tolerance(tol: object) -> float:
+    if isinstance(tol, bool) or not isinstance(tol, (int, float)) or not 0 <= tol < float("inf"):
+        raise StructureError(f"tol: expected a finite number >= 0, got {type(tol).__name__} {tol!r}")
+    return float(tol)
 
 
 def _subs(expr, values: Mapping[str, float]) -> dict:

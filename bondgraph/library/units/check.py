@@ -88,6 +88,9 @@ def si_values(values: Mapping[str, Any]) -> dict[str, Any]:
     >>> f"{si['Jm']:g}", si["Rm"]
     ('3.87e-07', 2.6)
     """
+    if not isinstance(values, Mapping):
+        raise UnitError(f"si_values: values must be a mapping of parameter name to value; got "
+                        f"{type(values).__name__}")
     return {k: (_si(v, k)[0] if _carries_units(v) else v) for k, v in values.items()}
 
 
@@ -253,6 +256,12 @@ def check_units(graph: Union[BondGraph, FlatGraph], values: Mapping[str, Any], *
     """
     from ...causality import assign_causality
 
+    if not isinstance(values, Mapping):
+        raise UnitError(f"check_units: values must be a mapping of parameter name to value; got "
+                        f"{type(values).__name__}")
+    if domains is not None and not isinstance(domains, Mapping):
+        raise UnitError(f"check_units: domains must be a mapping of element name or bond number "
+                        f"to domain name; got {type(domains).__name__}")
     flat = _flat(graph)
     doms = bond_domains(graph, domains=domains)
     aug = assign_causality(flat)
