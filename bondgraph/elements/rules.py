@@ -110,7 +110,8 @@ def check_numbers(label: str, rules: Iterable[ValueRule], *, active: bool = Fals
         except (TypeError, ValueError):
             continue            # complex or nan: to_expr refuses those with its own message
         if not test(x):
-            raise ParameterError(f"{label}: its {r.what} {r.expr} {says}{_hint(r)}")
+            shown = f"{x:g}" if isinstance(r.expr, sympy.Float) else str(r.expr)
+            raise ParameterError(f"{label}: its {r.what} {shown} {says}{_hint(r)}")
 
 
 def _by_name(values: Mapping) -> dict[str, Any]:

@@ -282,6 +282,7 @@ def check_units(graph: Union[BondGraph, FlatGraph], values: Mapping[str, Any], *
         state_syms = []
         for name, rate in zip(names, rates):
             sym = sympy.Dummy(name)
+            local.shown[sym] = sympy.Symbol(name)          # messages show the state's name
             try:
                 known[sym] = tuple(a + b for a, b in zip(dims_of(rate, known), _TIME))
                 units[name], dims[name] = text(known[sym]), known[sym]
