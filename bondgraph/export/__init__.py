@@ -274,6 +274,9 @@ def export_npz(plant: NumericStateSpace, path: PathLike) -> None:
         "format": np.array(FORMAT_NAME),
         "format_version": np.array(FORMAT_VERSION),
     })
+    if p.units:          # optional: signal name -> unit text, as the .mat and JSON files keep
+        data["unit_names"] = np.array(list(p.units), dtype=str).reshape(-1)
+        data["unit_texts"] = np.array([str(v) for v in p.units.values()], dtype=str).reshape(-1)
     atomic_write(path, lambda fh: np.savez(fh, **data))
 
 

@@ -288,3 +288,21 @@ def test_write_catalogue_onto_a_file(tmp_path):
     target.write_text("x")
     with pytest.raises(bg.ModelStructureError, match="is a file, not a directory"):
         write_catalogue(target)
+
+
+# ------------------------------------------------------------------ files keep and check units
+def test_npz_keeps_units_and_json_refuses_control_characters(tmp_path):
+    import json
+
+    from bondgraph.export import ExportError, export_json, export_npz, load_json, load_npz
+    from bondgraph.numeric import NumericStateSpace
+    ss = NumericStateSpace([[-1.0]], [[1.0]], [[1.0]], [[0.0]], ("x",), ("u",), ("y",),
+                           units={"x": "meter", "u": "newton"})
+    export_npz(ss, tmp_path / "p.npz")
+    assert dict(load_npz(tmp_path / "p.npz").units) == {"x": "meter", "u": "newton"}
+    export_json(ss, tmp_path / "p.json")
+    doc = json.loads((tmp_path / "p.json").read_text())
+    doc["units"] = {"x": "\u001b[2Jmeter"}
+    (tmp_path / "q.json").write_text(json.dumps(doc))
+    with pytest.raises(ExportError, match="not a printable unit name"):
+        load_json(tmp_path / "q.json")
