@@ -210,10 +210,11 @@ class HeatFlowSource(SourceComponent):
 
 @dataclass(frozen=True, eq=False)
 class _Temperature(Se):
-    """The effort source of :class:`TemperatureSource`: an absolute temperature, positive."""
+    """The effort source of :class:`TemperatureSource`: an absolute temperature, not negative
+    (0 K: the sky of a radiation closed form)."""
 
     def value_rules(self) -> tuple:
-        return rule(self.value, "absolute temperature (K)", opt_out=False)
+        return rule(self.value, "absolute temperature (K)", "nonnegative", opt_out=False)
 
 
 class TemperatureSource(SourceComponent):

@@ -168,7 +168,7 @@ def test_temperature_source_in_a_true_thermal_graph_with_units():
     eq = bg.derive(g).equilibrium({"Ta": 300, "cb": 10, "T0": 290, "Rk": 2},
                                   guess={"q_body.S": 0.1})
     assert eq.states["q_body.S"] == pytest.approx(10 * math.log(300 / 290), rel=1e-9)
-    with pytest.raises(bg.ParameterError, match="TemperatureSource 'amb'.*must be positive"):
+    with pytest.raises(bg.ParameterError, match="TemperatureSource .amb.*must not be negative"):
         TemperatureSource("amb", value=-5.0)
 
 
