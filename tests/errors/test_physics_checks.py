@@ -53,8 +53,9 @@ def test_numbers_refused_at_construction(make, culprit):
     lambda m, v: bg.simulate(m, v, (0.0, 0.1)),
     lambda m, v: m.equilibrium(v, {"F": 0.0}),
     lambda m, v: m.transfer_function("F", "x").subs(v),
+    lambda m, v: m.state_space().subs(v),
     lambda m, v: __import__("bondgraph.codegen", fromlist=["x"]).generate_python(m, defaults=v),
-], ids=["plant", "batch", "simulate", "equilibrium", "tf_subs", "codegen_defaults"])
+], ids=["plant", "batch", "simulate", "equilibrium", "tf_subs", "ss_subs", "codegen_defaults"])
 @pytest.mark.parametrize("name, value, culprit", [
     ("m", -2.0, r"I:m: its mass \(inertance\) m = -2( in parameter set 0)? must be positive"),
     ("m", 0.0, r"I:m: its mass \(inertance\) m = 0( in parameter set 0)? must be positive"),
