@@ -121,7 +121,7 @@ def si_value(value: sympy.Expr) -> tuple[float, Dim, str]:
     >>> si_value(2 * u.newton / u.millimeter)[::2]
     (2000.0, 'newton/millimeter')
     >>> si_value(1 * u.meter + 20 * u.centimeter)[::2]
-    (1.2, 'meter')
+    (1.2, 'centimeter')
     >>> si_value(500 * u.gram + 1 * u.meter)
     Traceback (most recent call last):
     ...
