@@ -125,7 +125,7 @@ def si_value(value: sympy.Expr) -> tuple[float, Dim, str]:
     >>> si_value(500 * u.gram + 1 * u.meter)
     Traceback (most recent call last):
     ...
-    bondgraph.library.units._dims.BadQuantity: it adds 500*gram (mass) and 1*meter (length), which have different units
+    bondgraph.library.units._dims.BadQuantity: it adds 500*gram (mass) and meter (length), which have different units
     """
     expr = sympy.sympify(value, strict=True)
     terms = [_term(t) for t in sympy.Add.make_args(expr)]
