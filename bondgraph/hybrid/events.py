@@ -51,6 +51,7 @@ import sympy
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
+from ..elements.rules import check_model_values
 from ..parameters import match_values, real_value
 from ..signals import Signal
 from ..signals import t as T_SYM
@@ -267,6 +268,8 @@ class _Run:
         given = match_values(tuple(params.values()), values, known=tuple(itertools.chain(*known)),
                              where=f"model {sm.name!r}: ")
         num = {p.name: real_value(v, p.name) for p, v in given.items()}
+        for m in fulls:           # each element's own rules (a capacitance positive), every mode
+            check_model_values(m, num, where=f"model {sm.name!r}: ")
         self.values = num
         self.subs = {}
         for m in fulls:
