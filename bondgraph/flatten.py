@@ -28,6 +28,7 @@ from typing import Mapping
 from .elements import Element, Port, Zero
 from .errors import ModelStructureError, PortError, UnknownElementError
 from .graph import Bond, BondGraph
+from .domains import check_domains
 
 __all__ = ["FlatGraph", "flatten"]
 
@@ -93,7 +94,8 @@ def flatten(graph: BondGraph) -> FlatGraph:
     PortError
         For a port left dangling.
     ModelStructureError
-        For an element with too few bonds.
+        For an element with too few bonds; a :class:`~bondgraph.domains.DomainError`
+        for a bond that two elements put in different physical domains.
 
     Examples
     --------
@@ -151,7 +153,7 @@ def flatten(graph: BondGraph) -> FlatGraph:
         if err is not None:
             raise ModelStructureError(err)
     names = tuple(elements)
-    return FlatGraph(
+    flat = FlatGraph(
         name=graph.name,
         elements=tuple(elements[n] for n in names),
         bonds=flat_bonds,
@@ -159,6 +161,8 @@ def flatten(graph: BondGraph) -> FlatGraph:
         index={n: i for i, n in enumerate(names)},
         top_bonds=top_bonds,
     )
+    check_domains(flat, graph)        # one physical domain per bond, units or not
+    return flat
 
 
 def _collect(graph: BondGraph, prefix: str, elements, ports, bonds) -> None:

@@ -140,7 +140,7 @@ class ModelDefinition:
                 raise ModelFileError(
                     f"ModelDefinition.parameters: key {key!r} must be a parameter name (str)")
             if isinstance(value, sympy.Basic) and _carries_units(value):
-                values[key] = _finite(_si(value), key)
+                values[key] = _finite(_si(value, key), key)
             else:
                 values[key] = _finite(value, key)
             given[key] = value
@@ -154,6 +154,13 @@ class ModelDefinition:
 
             check_units(self.graph, given, domains=self.domains)     # a wrong unit fails here
             self._cache["given"] = given
+
+    def __reduce__(self):
+        # rebuilt from plain mappings (a MappingProxyType does not pickle), with the values
+        # as given (units kept), so the checks run again on unpickling
+        given = self._cache.get("given", self.parameters)
+        return (ModelDefinition, (self.graph, dict(self.outputs), dict(given), self.description,
+                                  dict(self.domains)))
 
     @property
     def name(self) -> str:
@@ -264,6 +271,38 @@ class ModelDefinition:
             plant = plant.with_units({k: v for k, v in self.units.items() if k in signals})
         return plant
 
+    def linearize(self, x0=None, u0=None, *, values: Mapping[str, float] | None = None,
+                  equilibrium: bool = True, tol: float = 1e-9):
+        """The numeric plant of the model linearized about ``(x0, u0)`` (or an
+        :class:`~bondgraph.linear.operating.Equilibrium`), at the default values overridden
+        by ``values``; it carries the model's units like :meth:`plant`.
+
+        See :meth:`bondgraph.Model.linearize` for the arguments.
+
+        Examples
+        --------
+        >>> import bondgraph as bg, sympy, sympy.physics.units as u
+        >>> g = bg.BondGraph("pend")
+        >>> g.add(bg.Se("T"), bg.One("w"), bg.I("J"),
+        ...       bg.C("grav", law=sympy.Symbol("k") * sympy.sin(bg.q)))
+        >>> for t, h in [("T", "w"), ("w", "J"), ("w", "grav")]: _ = g.connect(t, h)
+        >>> d = ModelDefinition(g, {"a": bg.displacement("grav")},
+        ...                     {"J": 2 * u.kilogram * u.meter**2, "k": 4 * u.newton * u.meter},
+        ...                     domains={"T": "rotation"})
+        >>> lin = d.linearize({"p_J": 0, "q_grav": 0}, {"T": 0})
+        >>> lin.A.tolist(), lin.units["q_grav"], lin.units["T"]
+        ([[0.0, -4.0], [0.5, 0.0]], '1 (dimensionless)', 'joule')
+        """
+        model = self.derive()
+        used = {p.name for p in model.parameters}
+        merged = {k: v for k, v in self.parameters.items() if k in used}
+        merged.update(values or {})
+        plant = model.linearize(x0, u0, values=merged, equilibrium=equilibrium, tol=tol)
+        if self.units:
+            signals = {*plant.state_names, *plant.input_names, *plant.output_names}
+            plant = plant.with_units({k: v for k, v in self.units.items() if k in signals})
+        return plant
+
     def to_control(self, values: Mapping[str, float] | None = None):
         """python-control ``StateSpace`` with labels, and ``units`` when the model declares
         them (see :meth:`plant` and :meth:`bondgraph.numeric.NumericStateSpace.to_control`)."""
@@ -291,11 +330,14 @@ def _carries_units(value: sympy.Basic) -> bool:
     return bool(value.atoms(Quantity))
 
 
-def _si(value: sympy.Basic) -> Any:
+def _si(value: sympy.Basic, name: str) -> Any:
     """A unit-carrying value in SI (the dimensional check then tells whether it fits)."""
-    from .library.units.check import si_values
+    from .library.units.check import UnitError, si_values
 
-    return si_values({"_": value})["_"]
+    try:
+        return si_values({name: value})[name]
+    except UnitError as exc:
+        raise ModelFileError(f"default value of {exc}") from None
 
 
 def _short(value: Any) -> str:

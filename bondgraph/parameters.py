@@ -191,3 +191,25 @@ def exact_value(value: Any, name: str, where: str = "") -> sympy.Expr:
         return sympy.Integer(int(value))
     x = real_value(value, name, where)
     return sympy.Rational(repr(x))
+
+
+def note_inputs(error: ParameterValueError, inputs: Iterable[str]) -> ParameterValueError:
+    """``error`` with a sentence for each unknown name that is one of the model's ``inputs``:
+    a value given for an input among the parameters says it is an input.
+
+    Examples
+    --------
+    >>> k = sympy.Symbol("k", positive=True)
+    >>> try:
+    ...     match_values((k,), {"k": 1.0, "F": 2.0})
+    ... except ParameterValueError as exc:
+    ...     print(note_inputs(exc, ("F",)))
+    unknown parameter 'F'. Valid names: k; 'F' is an input of the model, not a parameter: give its values as an input (u= of simulate, inputs= of equilibrium), or make the source a parameter with value=
+    """
+    named = [n for n in error.unknown if n in set(inputs)]
+    if not named:
+        return error
+    notes = "; ".join(f"{n!r} is an input of the model, not a parameter: give its values as an "
+                      "input (u= of simulate, inputs= of equilibrium), or make the source a "
+                      "parameter with value=" for n in named)
+    return type(error)(f"{error}; {notes}", missing=error.missing, unknown=error.unknown)

@@ -449,7 +449,7 @@ def plant_huge_int(d):
     bg.compile_plant(msd_model()).plant({**VALUES, "m": 10 ** 400})
 
 
-@case("values", "plant({'m': 0.0}) (an inertia of zero)", bg.ParameterValueError, r"I:m \(m = 0\) divides")
+@case("values", "plant({'m': 0.0}) (an inertia of zero)", bg.ParameterValueError, r"I:m: its mass \(inertance\) m = 0 must be positive")
 def plant_zero_divisor(d):
     bg.compile_plant(msd_model()).plant({**VALUES, "m": 0.0})
 
@@ -482,6 +482,139 @@ def plant_list(d):
 @case("values", "plant({1: 2.0}) (key neither a name nor a Symbol)", bg.ParameterValueError, r"keys must be sympy Symbols.*got int 1")
 def plant_int_key(d):
     bg.compile_plant(msd_model()).plant({1: 2.0})
+
+
+# ------------------------------------------------------------------ physics (issues 35 and 36)
+@case("values", "simulate({'m': -2.0, ...}) (a negative mass given as a value)", bg.ParameterValueError,
+      r"I:m: its mass \(inertance\) m = -2 must be positive")
+def simulate_negative_mass(d):
+    bg.simulate(msd_model(), {**VALUES, "m": -2.0}, (0.0, 1.0))
+
+
+@case("values", "plant({'F': 1.0, ...}) (an input given as a parameter)", bg.ParameterValueError,
+      r"'F' is an input of the model, not a parameter")
+def plant_input_as_parameter(d):
+    bg.compile_plant(msd_model()).plant({**VALUES, "F": 1.0})
+
+
+@case("physics", "bg.R('b', -2) (a negative resistance, not marked active)", bg.ParameterError,
+      r"R:b: its resistance -2 must not be negative; pass active=True")
+def negative_resistance(d):
+    bg.R("b", -2)
+
+
+@case("physics", "an RS heater bonded to a pseudo-thermal HeatCapacity", bg.ModelStructureError,
+      r"thermal \(entropy\) \(entropy flow, from RS:Rh\)")
+def rs_into_pseudo_thermal(d):
+    from bondgraph.library.thermal import RS, HeatCapacity
+    g = bg.BondGraph("heater")
+    g.add(bg.Se("V"), bg.One("i"), RS("Rh", 10), HeatCapacity("body", capacity=2))
+    for t, h in [("V", "i"), ("i", "Rh"), ("Rh", "body.p")]:
+        g.connect(t, h)
+    bg.derive(g)
+
+
+@case("physics", "simulate of a species with K_A = -1 given as a value", bg.ParameterValueError,
+      r"Ce:A: its thermodynamic constant K_A = -1 must be positive")
+def species_negative_k_value(d):
+    from bondgraph.library.chemical import ReactionNetwork
+    net = ReactionNetwork("n")
+    A, B = net.species("A"), net.species("B", K=1)
+    net.reaction("r", A, B, r=1)
+    bg.simulate(bg.derive(net.graph()), {"K_A": -1.0, "R_gas": 8.314, "T": 300.0}, (0, 1),
+                {"q_A": 1.0, "q_B": 0.0})
+
+
+@case("physics", "a species of network n1 inside a sum of a reaction of n2", bg.ModelStructureError,
+      r"species A belongs to network 'n1', not 'n2'")
+def species_other_network_in_sum(d):
+    from bondgraph.library.chemical import ReactionNetwork
+    n1, n2 = ReactionNetwork("n1"), ReactionNetwork("n2")
+    A1 = n1.species("A")
+    n2.species("A"); B2, P2 = n2.species("B"), n2.species("P")
+    n2.reaction("r", A1 + B2, P2)
+
+
+@case("physics", "a network whose species A takes part in no reaction", bg.ModelStructureError,
+      r"species A takes part in no reaction")
+def species_idle(d):
+    from bondgraph.library.chemical import ReactionNetwork
+    net = ReactionNetwork("one")
+    net.species("A", K=1)
+    net.graph()
+
+
+@case("physics", "si_values({'m': 500*u.gram + 1*u.meter})", bg.BondGraphError,
+      r"parameter 'm'.*adds 500\*gram \(mass\) and meter \(length\)")
+def units_sum_of_dimensions(d):
+    import sympy.physics.units as u
+    from bondgraph.library.units import si_values
+    si_values({"m": 500 * u.gram + 1 * u.meter})
+
+
+@case("physics", "si_values({'m': a*u.kilogram}) (a symbolic coefficient)", bg.BondGraphError,
+      r"parameter 'm'.*coefficient a is symbolic")
+def units_symbolic_coefficient(d):
+    import sympy.physics.units as u
+    from bondgraph.library.units import si_values
+    si_values({"m": sympy.Symbol("a") * u.kilogram})
+
+
+# ------------------------------------------------------------------ structural results on bad data
+@case("structure", "invert(model, Abs(t)) (a kink where x must be twice differentiable)",
+      bg.BondGraphError, r"trajectory Abs\(t\) is not 2 times differentiable.*at t = 0")
+def invert_kink(d):
+    from bondgraph.structure import invert
+    invert(msd_model(), sympy.Abs(bg.t))
+
+
+@case("structure", "residuals(...) from two samples (a second derivative needs 5)", bg.BondGraphError,
+      r"2 sample\(s\) are too few")
+def residuals_two_samples(d):
+    from bondgraph.structure import fault_signatures
+    t = np.array([0.0, 1.0])
+    fault_signatures(msd_model()).residuals(t, {"F": 2 * np.ones(2)}, {"x": t**2}, VALUES)
+
+
+@case("structure", "residuals(...) with 40 measurements for 50 times", bg.BondGraphError,
+      r"measurement 'x' has shape \(40,\), but t has 50 samples")
+def residuals_mismatched(d):
+    from bondgraph.structure import fault_signatures
+    t = np.linspace(0, 1, 50)
+    fault_signatures(msd_model()).residuals(t, {"F": np.ones(50)}, {"x": np.ones(40)}, VALUES)
+
+
+@case("structure", "minimum_phase({'m2': nan, ...})", bg.ParameterValueError,
+      r"parameter 'm2' must be a finite real number; got nan")
+def minimum_phase_nan(d):
+    from bondgraph.structure import zero_structure
+    g = bg.BondGraph("two_masses")
+    v1, v2, s = bg.One("v1"), bg.One("v2"), bg.Zero("s")
+    g.add(bg.Se("F"), v1, v2, s, bg.I("m1"), bg.I("m2"), bg.C("k", stiffness="k"))
+    for a, b in [("F", v1), (v1, "m1"), (v1, s), (s, "k"), (s, v2), (v2, "m2")]:
+        g.connect(a, b)
+    z = zero_structure(bg.derive(g, outputs={"x1": bg.displacement("m1")}))
+    z.minimum_phase({"m1": 1.0, "m2": float("nan"), "k": 1.0})
+
+
+@case("structure", "linearize where an implicit law e = f**3 + f**5 has zero slope", bg.BondGraphError,
+      r"f_d")
+def linearize_zero_slope_law(d):
+    g = bg.BondGraph("nl")
+    g.add(bg.Se("V"), bg.One("j"), bg.R("r0", 1), bg.Zero("n"), bg.C("c", 1),
+          bg.R("d", law=bg.f**3 + bg.f**5))
+    for a, b in [("V", "j"), ("j", "r0"), ("j", "n"), ("n", "c"), ("n", "d")]:
+        g.connect(a, b)
+    bg.derive(g).linearize({"q_c": 0.0}, {"V": 0.0}, values={})
+
+
+@case("library", "write_catalogue('cat') where cat is a file", bg.ModelStructureError,
+      r"'.*cat' is a file, not a directory")
+def write_catalogue_onto_file(d):
+    from bondgraph.library.catalogue import write_catalogue
+    target = d.inp / "cat"
+    target.write_text("x")
+    write_catalogue(target)
 
 
 # ------------------------------------------------------------------ symbolic forms

@@ -339,6 +339,10 @@ def prepare(model: Model, *, reserved: Iterable[str], matlab: bool = False,
 
         default_values = tuple(resolve_parameters(params, defaults, model=model.name,
                                                   known=model.known_parameters).tolist())
+        from ..elements.rules import check_model_values
+
+        check_model_values(model, dict(zip((p.name for p in params), default_values)),
+                           where=f"model {model.name!r}: ")
     return PreparedModel(model.name, model.state_names, model.input_names, model.output_names,
                          tuple(p.name for p in params), state_ids, input_ids, output_ids,
                          param_ids, rhs, outs, default_values, **implicit)

@@ -21,10 +21,12 @@ import numbers
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Callable, ClassVar, Optional, Sequence, Union, cast
 
+import numpy as np
 import sympy
 
 from ..errors import LawError, ParameterError
 from .inverse import closed_form_inverse
+from .rules import check_numbers, rule
 from .protocol import (ARBITRARY, DERIVATIVE, INTEGRAL, RESISTIVE, STORAGE, CausalPorts, Choice,
                        Decision, Element, LocalVariables, prefix_signals, rename, signals_of)
 from .._support.sympify import ParameterLike, nonzero, to_expr
@@ -232,6 +234,12 @@ class OnePort(_OneBond):
         element's path.
     law, inverse : sympy expression or callable, optional
         The constitutive law in the own variable, and its inverse.
+    active : bool, optional, keyword only
+        An element negative on purpose (a negative resistance): the sign of
+        its parameter is not checked.  By default an I's or a C's parameter
+        must be positive and an R's not negative, at construction for a
+        number and at every numeric evaluation for a symbol
+        (:mod:`bondgraph.elements.rules`).
 
     Examples
     --------
@@ -244,6 +252,9 @@ class OnePort(_OneBond):
     parameter: ParameterLike = None
     law: LawLike = None
     inverse: LawLike = None
+    #: an element negative on purpose (a negative resistance, an amplifier): its
+    #: parameter's sign is not checked (:mod:`bondgraph.elements.rules`)
+    active: bool = field(default=False, kw_only=True, repr=False)
     own: ClassVar[LawVariable] = P_VAR
     inverse_own: ClassVar[LawVariable] = F_VAR
     law_name: ClassVar[str] = ""
@@ -259,6 +270,19 @@ class OnePort(_OneBond):
                                                  what=self.inverse_name))
         if self.parameter is not None and (self.law is not None or self.inverse is not None):
             raise LawError(f"{owner}: give either a parameter or a law, not both")
+        if not isinstance(self.active, (bool, np.bool_)):
+            raise ParameterError(f"{owner}: active must be True or False, got "
+                                 f"{type(self.active).__name__} {self.active!r}")
+        check_numbers(owner, self.value_rules(), active=bool(self.active))
+
+    #: what the linear parameter is, for messages; its sign rule
+    parameter_meaning: ClassVar[str] = "parameter"
+    parameter_relation: ClassVar[str] = "positive"
+
+    def value_rules(self) -> tuple:
+        """The linear parameter's sign (a mass, a compliance positive; a resistance not
+        negative); none for a law.  ``active=True`` lifts it."""
+        return rule(self.parameter, self.parameter_meaning, self.parameter_relation)
 
     def resolved(self, path: str) -> Element:
         el = rename(self, path)
@@ -513,6 +537,7 @@ class I(_Storage):
     """
 
     kind: ClassVar[str] = "I"
+    parameter_meaning: ClassVar[str] = "mass (inertance)"
     own: ClassVar[LawVariable] = P_VAR
     inverse_own: ClassVar[LawVariable] = F_VAR
     law_name: ClassVar[str] = "flow"
@@ -549,6 +574,7 @@ class C(_Storage):
     """
 
     kind: ClassVar[str] = "C"
+    parameter_meaning: ClassVar[str] = "compliance (capacitance)"
     integral_effort_in: ClassVar[bool] = False
     state_prefix: ClassVar[str] = "q_"
     energy_signal: ClassVar[str] = "displacement"
@@ -574,6 +600,12 @@ class C(_Storage):
     def _linear_inverse(self, e):
         return self.parameter * e
 
+    def value_rules(self) -> tuple:
+        if self.stiffness is not None and self.parameter is None:
+            return rule(to_expr(self.stiffness, owner=f"C:{self.name}", what="stiffness"),
+                        "stiffness")
+        return super().value_rules()
+
 
 @dataclass(frozen=True, eq=False)
 class R(OnePort):
@@ -596,6 +628,8 @@ class R(OnePort):
     """
 
     kind: ClassVar[str] = "R"
+    parameter_meaning: ClassVar[str] = "resistance"
+    parameter_relation: ClassVar[str] = "nonnegative"
     own: ClassVar[LawVariable] = F_VAR
     inverse_own: ClassVar[LawVariable] = E_VAR
     law_name: ClassVar[str] = "effort"

@@ -72,6 +72,11 @@ Energy (the port-Hamiltonian form, :mod:`bondgraph.hamiltonian`)
     * :meth:`Element.conserves_power` -- False for a lossy two-port;
     * :meth:`Element.collocated_output` -- for an input, the name and signal
       of its power-conjugate output (``f_V``, the flow out of an ``Se``).
+Values
+    :meth:`Element.value_rules` -- what its parameters must be (a mass positive,
+    a resistance not negative; :mod:`bondgraph.elements.rules`), checked at
+    construction for numbers and at every numeric evaluation for symbols;
+    :meth:`Element.check_values` checks them at given values.
 Drawing
     :meth:`Element.drawing_label` (text and note) and
     :attr:`Element.drawing_role` (where the layout puts it).
@@ -541,6 +546,19 @@ class Element:
         """For an element that introduces an input: the name and signal of the output
         power-conjugate to it (``('f_V', -bg.flow('V'))`` for an ``Se``)."""
         return None
+
+    # ------------------------------------------------------------ values
+    def value_rules(self) -> tuple:
+        """What its parameters must be: :class:`~bondgraph.elements.rules.ValueRule` s
+        (a mass positive, a resistance not negative), checked at construction for
+        numbers and at every numeric evaluation for symbols; empty by default."""
+        return ()
+
+    def check_values(self, values) -> None:
+        """Check :meth:`value_rules` at parameter ``values`` (name or Symbol -> number);
+        a :class:`~bondgraph.errors.ParameterValueError` names the element and the parameter."""
+        from .rules import check_values
+        check_values((self,), values)
 
     # ------------------------------------------------------------ units
     def domain_groups(self, count: int) -> tuple[tuple[int, ...], ...]:

@@ -274,6 +274,9 @@ def export_npz(plant: NumericStateSpace, path: PathLike) -> None:
         "format": np.array(FORMAT_NAME),
         "format_version": np.array(FORMAT_VERSION),
     })
+    if p.units:          # optional: signal name -> unit text, as the .mat and JSON files keep
+        data["unit_names"] = np.array(list(p.units), dtype=str).reshape(-1)
+        data["unit_texts"] = np.array([str(v) for v in p.units.values()], dtype=str).reshape(-1)
     atomic_write(path, lambda fh: np.savez(fh, **data))
 
 
@@ -503,6 +506,10 @@ def _plant_from_document(doc: Any, where: str) -> NumericStateSpace:
     units_doc = doc.get("units", {})
     if not isinstance(units_doc, dict) or not all(isinstance(v, str) for v in units_doc.values()):
         raise fail(f'"units" must be an object of names to unit texts; got {short_repr.repr(units_doc)}')
+    for key, text in units_doc.items():       # shown on consoles: no control characters
+        if not text.isprintable() or len(text) > 200:
+            raise fail(f"the unit text of {short_repr.repr(key)} is not a printable unit name "
+                       f"(control characters or over 200 characters): {text[:60]!r}")
     params = {}
     for key, value in params_doc.items():
         problem = number_problem(value)

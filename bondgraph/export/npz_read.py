@@ -27,6 +27,7 @@ from .._support.files import ExportError
 __all__ = ["ARRAYS_LIMIT", "read_npz"]
 
 _NAMES = ("state_names", "input_names", "output_names", "parameter_names")
+_UNITS = ("unit_names", "unit_texts")       # optional: the signals' units
 _SPARSE_PARTS = ("data", "indices", "indptr", "shape")
 _NUMERIC = "fiu"
 #: bytes the format's arrays of one file may hold once decompressed (checked from the zip directory)
@@ -36,7 +37,7 @@ ARRAYS_LIMIT = PLANT_LIMIT
 def _member_spec(key: str) -> tuple[str, Any]:
     if key in "ABCD":
         return _NUMERIC, 2
-    if key in _NAMES:
+    if key in _NAMES or key in _UNITS:
         return "U", 1
     if key in ("model_name", "format"):
         return "U", 0
@@ -92,16 +93,37 @@ def read_npz(path: str, FORMAT_NAME: str, FORMAT_VERSION: int) -> Any:
     if values.shape[0] != len(names["parameter_names"]):
         raise fail(f"{len(names['parameter_names'])} parameter_names but {values.shape[0]} parameter_values")
     _finite(values, "parameter_values", fail)
+    units = _units(arrays, {*names["state_names"], *names["input_names"], *names["output_names"]},
+                   fail)
     try:
         return NumericStateSpace(mats["A"], mats["B"], mats["C"], mats["D"], names["state_names"],
                                  names["input_names"], names["output_names"],
                                  dict(zip(names["parameter_names"], values.astype(float).tolist())),
-                                 str(arrays["model_name"]))
+                                 str(arrays["model_name"]), units=units)
     except (BondGraphError, TypeError, ValueError) as exc:
         raise fail(f"malformed {FORMAT_NAME} archive: {exc}") from exc
 
 
+def _units(arrays: dict, signals: set, fail: Callable[[str], ExportError]) -> dict[str, str]:
+    """The optional units (signal name -> printable unit text) of an archive."""
+    if not any(k in arrays for k in _UNITS):
+        return {}
+    if not all(k in arrays for k in _UNITS):
+        raise fail("unit_names and unit_texts must be given together")
+    keys = [str(v) for v in arrays["unit_names"]]
+    texts = [str(v) for v in arrays["unit_texts"]]
+    if len(keys) != len(texts):
+        raise fail(f"{len(keys)} unit_names but {len(texts)} unit_texts")
+    for key, text in zip(keys, texts):
+        if not text.isprintable() or len(text) > 200:
+            raise fail(f"the unit text of {key[:40]!r} is not a printable unit name (control "
+                       f"characters or over 200 characters): {text[:60]!r}")
+    return {k: v for k, v in zip(keys, texts) if k in signals}
+
+
 def _expected(key: str) -> bool:
+    if key in _UNITS:
+        return True
     if key in "ABCD" or key in _NAMES or key in ("parameter_values", "model_name", "format",
                                                  "format_version"):
         return bool(key)

@@ -133,6 +133,10 @@ def _model_and_values(target: object, values: Optional[ParameterValues]) -> tupl
             raise FMUError(f"values must be a mapping of parameter name to number; got {type(values).__name__}")
         merged.update(values)
     resolved = resolve_parameters(model.parameters, merged, model=model.name, known=model.known_parameters)
+    from ..elements.rules import check_model_values
+
+    check_model_values(model, {p.name: float(v) for p, v in zip(model.parameters, resolved)},
+                       where=f"model {model.name!r}: ")
     return model, [float(v) for v in resolved]
 
 

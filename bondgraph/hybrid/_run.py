@@ -16,6 +16,7 @@ from typing import Any, Callable, Mapping, Optional
 import numpy as np
 import sympy
 
+from ..elements.rules import check_model_values
 from ..parameters import match_values, real_value
 from ..signals import Signal
 from ..signals import t as T_SYM
@@ -63,6 +64,8 @@ class Run:
         given = match_values(tuple(params.values()), values, known=tuple(itertools.chain(*known)),
                              where=f"model {sm.name!r}: ")
         num = {p.name: real_value(v, p.name) for p, v in given.items()}
+        for m in fulls:           # each element's own rules (a capacitance positive), every mode
+            check_model_values(m, num, where=f"model {sm.name!r}: ")
         self.values = num
         # sympy numbers, so that an expression that is one parameter stays a sympy expression
         self.subs = {p: sympy.Float(num[p.name]) for p in params.values() if p.name in num}

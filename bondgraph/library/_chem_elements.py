@@ -44,6 +44,7 @@ from ..elements.protocol import Element, rename
 from ._twoport import ConductanceTwoPort, positive_parameter as _positive
 from ..signals import Signal, e as E_VAR, q as Q_VAR
 from .._support.sympify import ParameterLike, nonzero, to_expr
+from ..elements.rules import rule
 
 __all__ = ["Ce", "Re", "Chemostat", "Flowstat", "GAS_CONSTANT", "FARADAY", "R_GAS", "TEMPERATURE"]
 
@@ -86,6 +87,28 @@ def _rt(el) -> sympy.Expr:
     owner = f"{el.kind}:{el.name}"
     return (_positive(el.gas_constant, R_GAS, owner=owner, what="gas_constant") *
             _positive(el.temperature, TEMPERATURE, owner=owner, what="temperature"))
+
+
+def _thermo_rules(el) -> tuple:
+    """The gas constant and the (absolute) temperature of a chemical law: positive."""
+    owner = f"{el.kind}:{el.name}"
+    return (rule(_positive(el.gas_constant, R_GAS, owner=owner, what="gas_constant"),
+                 "gas constant R_gas", opt_out=False) +
+            rule(_positive(el.temperature, TEMPERATURE, owner=owner, what="temperature"),
+                 "absolute temperature", opt_out=False))
+
+
+def _rate_constant(value: ParameterLike, *, owner: str, what: str) -> sympy.Expr:
+    """A mass-action rate constant: a constant expression, a number not negative (0: the
+    step is irreversible)."""
+    expr = to_expr(value, owner=owner, what=what)
+    if expr is None:
+        return sympy.Integer(1)
+    if any(isinstance(s, Signal) for s in expr.free_symbols):
+        raise ParameterError(f"{owner}: {what} {expr} must be a constant parameter (no signals)")
+    if expr.is_number and expr.is_negative:
+        raise ParameterError(f"{owner}: {what} must not be negative, got {expr}")
+    return expr
 
 
 @dataclass(frozen=True, eq=False)
@@ -137,6 +160,10 @@ class Ce(C):
     def RT(self) -> sympy.Expr:
         """The product ``R T`` of its law."""
         return _rt(self)
+
+    def value_rules(self) -> tuple:
+        """``K``, ``R_gas`` and ``T`` positive (``ln(K q)``: no opt-out)."""
+        return rule(self.K_value, "thermodynamic constant", opt_out=False) + _thermo_rules(self)
 
     def _set_law(self) -> None:
         k, rt = self.K_value, self.RT()
@@ -218,14 +245,29 @@ class Re(ConductanceTwoPort):
         if (self.kf is None) != (self.kr is None) or (self.kf is not None and self.r is not None):
             raise ParameterError(f"{self.label()}: give r (Marcelin-de Donder form) or both kf "
                                  "and kr (mass-action form), not a mix")
-        self._constants(), self.RT()      # validate now, at the wrong call
+        kf, kr = self._constants()
+        if kf.is_zero and kr.is_zero:
+            raise ParameterError(f"{self.label()}: kf and kr are both 0, so the reaction never "
+                                 "runs; remove it, or give one of them a positive value (one "
+                                 "0 makes an irreversible step)")
+        self.RT()      # validate now, at the wrong call
 
     def _constants(self) -> tuple[sympy.Expr, sympy.Expr]:
         """The forward and reverse coefficients (``r, r`` or ``kf, kr``)."""
         if self.kf is None:
             return self.r_value, self.r_value
-        return (_positive(self.kf, sympy.Integer(1), owner=self.label(), what="kf"),
-                _positive(self.kr, sympy.Integer(1), owner=self.label(), what="kr"))
+        return (_rate_constant(self.kf, owner=self.label(), what="kf"),
+                _rate_constant(self.kr, owner=self.label(), what="kr"))
+
+    def value_rules(self) -> tuple:
+        """``r`` positive, or ``kf`` and ``kr`` not negative; ``R_gas`` and ``T`` positive."""
+        if self.kf is None:
+            own = rule(self.r_value, "rate constant r", opt_out=False)
+        else:
+            kf, kr = self._constants()
+            own = (rule(kf, "forward rate constant kf", "nonnegative", opt_out=False) +
+                   rule(kr, "reverse rate constant kr", "nonnegative", opt_out=False))
+        return own + _thermo_rules(self)
 
     @property
     def r_value(self) -> sympy.Expr:
@@ -306,6 +348,17 @@ class Chemostat(Se):
         """``K``, or the default symbol ``K_<name>``."""
         return _positive(self.K, sympy.Symbol(f"K_{self.name}", positive=True),
                          owner=f"Ce:{self.name} (chemostat)", what="K")
+
+    def value_rules(self) -> tuple:
+        """``K`` positive, the amount not negative, ``R_gas`` and ``T`` positive."""
+        path = self.name
+        k = _positive(self.K, sympy.Symbol(f"K_{path}", positive=True),
+                      owner=f"Ce:{path} (chemostat)", what="K")
+        x = to_expr(self.amount, owner=f"Ce:{path} (chemostat)", what="amount")
+        if x is None:
+            x = sympy.Symbol(f"x_{path}", positive=True)
+        return (rule(k, "thermodynamic constant", opt_out=False) +
+                rule(x, "amount", "nonnegative", opt_out=False) + _thermo_rules(self))
 
     def _potential(self, path: str) -> sympy.Expr:
         owner = f"Ce:{self.name} (chemostat)"

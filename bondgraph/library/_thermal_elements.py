@@ -37,6 +37,7 @@ from ..elements.protocol import (ARBITRARY, RESISTIVE, CausalPorts, Choice, Deci
 from ..signals import e as E_VAR, q as Q_VAR
 from .._support.sympify import ParameterLike
 from ._twoport import ConductanceTwoPort, DirectedTwoPort, positive_parameter
+from ..elements.rules import rule
 
 __all__ = ["Radiation", "EntropyCapacity", "HeatConduction", "RS", "STEFAN_BOLTZMANN",
            "SIGMA_SB"]
@@ -91,6 +92,13 @@ class Radiation(ConductanceTwoPort):
         return (_param(self, self.emissivity, "emissivity") * _param(self, self.area, "area") *
                 positive_parameter(self.sigma, SIGMA_SB, owner=self.label(), what="sigma"))
 
+    def value_rules(self) -> tuple:
+        """Area and ``sigma`` positive, the emissivity in (0, 1]."""
+        return (rule(_param(self, self.emissivity, "emissivity"), "emissivity", "fraction") +
+                rule(_param(self, self.area, "area"), "area", opt_out=False) +
+                rule(positive_parameter(self.sigma, SIGMA_SB, owner=self.label(), what="sigma"),
+                     "Stefan-Boltzmann constant sigma", opt_out=False))
+
     def flows(self, effort_in: sympy.Expr, effort_out: sympy.Expr) -> tuple[sympy.Expr, sympy.Expr]:
         Q = self.coefficient() * (effort_in**4 - effort_out**4)
         return Q, Q
@@ -129,6 +137,11 @@ class HeatConduction(ConductanceTwoPort):
     def __post_init__(self) -> None:
         super().__post_init__()
         _param(self, self.resistance, "resistance")
+
+    def value_rules(self) -> tuple:
+        """The thermal resistance positive."""
+        return rule(_param(self, self.resistance, "resistance"), "thermal resistance",
+                    opt_out=False)
 
     def flows(self, effort_in: sympy.Expr, effort_out: sympy.Expr) -> tuple[sympy.Expr, sympy.Expr]:
         Q = (effort_in - effort_out) / _param(self, self.resistance, "resistance")
@@ -174,13 +187,23 @@ class EntropyCapacity(C):
         self._set_law()
         super().__post_init__()
 
-    def _set_law(self) -> None:
+    def _constants(self) -> tuple[sympy.Expr, sympy.Expr]:
         c = _param(self, self.heat_capacity, "heat_capacity")
         T0 = positive_parameter(self.reference_temperature,
                                 sympy.Symbol(f"T0_{self.name}", positive=True),
                                 owner=f"CS:{self.name}", what="reference_temperature")
+        return c, T0
+
+    def _set_law(self) -> None:
+        c, T0 = self._constants()
         object.__setattr__(self, "law", T0 * sympy.exp(Q_VAR / c))
         object.__setattr__(self, "inverse", c * sympy.log(E_VAR / T0))
+
+    def value_rules(self) -> tuple:
+        """The heat capacity and the (absolute) reference temperature positive."""
+        c, T0 = self._constants()
+        return (rule(c, "heat capacity", opt_out=False) +
+                rule(T0, "reference temperature T0", opt_out=False))
 
     def resolved(self, path: str) -> Element:
         el = cast(EntropyCapacity, rename(self, path))
@@ -235,6 +258,10 @@ class RS(DirectedTwoPort):
     def _R(self) -> sympy.Expr:
         return positive_parameter(self.resistance, sympy.Symbol(self.name, positive=True),
                                   owner=self.label(), what="resistance")
+
+    def value_rules(self) -> tuple:
+        """The resistance positive (it heats the body it is bonded to)."""
+        return rule(self._R(), "resistance", opt_out=False)
 
     def resolved(self, path: str) -> Element:
         el = rename(self, path)

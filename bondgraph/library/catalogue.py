@@ -145,8 +145,21 @@ def write_catalogue(directory: Union[str, os.PathLike]) -> list[Path]:
 
     Every file is written to a temporary name and renamed, so a failure
     leaves no half-written page.
+
+    Raises
+    ------
+    ModelStructureError
+        ``directory`` (or a folder under it) is an existing file.
     """
+    if not isinstance(directory, (str, os.PathLike)) or isinstance(directory, bytes):
+        raise ModelStructureError(f"write_catalogue: directory must be a path (str or "
+                                  f"os.PathLike); got {type(directory).__name__}")
     out = Path(directory)
+    for part in (out, out / "img", out / "img" / "library", out / "guide"):
+        if part.exists() and not part.is_dir():
+            raise ModelStructureError(f"write_catalogue: {str(part)!r} is a file, not a "
+                                      "directory; give the documentation directory "
+                                      "(the catalogue goes to guide/ and img/library/ under it)")
     pics = out / "img" / "library"
     pics.mkdir(parents=True, exist_ok=True)
     written = []

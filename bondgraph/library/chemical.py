@@ -86,7 +86,7 @@ class Species:
     network: str = field(repr=False)
 
     def __mul__(self, n: object) -> "Term":
-        return Term(self.name, _coefficient(n, f"species {self.name}"))
+        return Term(self.name, _coefficient(n, f"species {self.name}"), self.network)
 
     __rmul__ = __mul__
 
@@ -100,6 +100,8 @@ class Term:
 
     species: str
     n: int
+    #: the network the species belongs to ('' for a term built by hand)
+    network: str = field(default="", repr=False, compare=False)
 
     def __add__(self, other: object) -> "Side":
         return Side.of(self) + other
@@ -118,7 +120,7 @@ class Side:
         if isinstance(item, Term):
             return Side((item,))
         if isinstance(item, Species):
-            return Side((Term(item.name, 1),))
+            return Side((Term(item.name, 1, item.network),))
         raise ReactionError(f"a reaction side is made of species (A, 2*B, A + B), got "
                             f"{type(item).__name__} {item!r} (text is never parsed)")
 
@@ -218,11 +220,12 @@ class ReactionNetwork:
                                 "already used")
         sides = []
         for what, side in (("substrates", substrates), ("products", products)):
-            if isinstance(side, Species) and side.network != self.name:
-                raise ReactionError(f"reaction {name}: species {side.name} belongs to network "
-                                    f"{side.network!r}, not {self.name!r}")
             s = Side.of(side)
             for term in s.terms:
+                if term.network and term.network != self.name:      # in any form: A, 2*A, A + B
+                    raise ReactionError(f"reaction {name}: {what} species {term.species} belongs "
+                                        f"to network {term.network!r}, not {self.name!r}; use "
+                                        f"the species returned by network {self.name!r}")
                 if term.species not in self._species:
                     raise ReactionError(f"reaction {name}: {what} species {term.species!r} is "
                                         f"not in network {self.name!r}; add it with "
@@ -235,7 +238,20 @@ class ReactionNetwork:
 
     # ------------------------------------------------------------ graph
     def graph(self) -> BondGraph:
-        """The bond graph (a new builder on each call)."""
+        """The bond graph (a new builder on each call).
+
+        Raises
+        ------
+        ReactionError
+            A species that takes part in no reaction (its node would be bonded to it alone).
+        """
+        used = {t.species for rx in self._reactions.values()
+                for t in rx.substrates.terms + rx.products.terms}
+        idle = [n for n in self._species if n not in used]
+        if idle:
+            raise ReactionError(f"reaction network {self.name!r}: species {', '.join(idle)} "
+                                f"take{'s' if len(idle) == 1 else ''} part in no reaction; add a "
+                                "reaction with it or leave it out")
         g = BondGraph(self.name)
         for sp_name, el in self._species.items():
             g.add(el, Zero(f"mu_{sp_name}"))

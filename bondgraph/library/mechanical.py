@@ -32,7 +32,10 @@ from __future__ import annotations
 
 from typing import ClassVar
 
+import sympy
+
 from ..elements import C, I, Port, R, Se, Sf, TF, Zero
+from ..errors import ParameterError
 from .._support.sympify import ParameterLike
 from ._component import Component, SourceComponent
 
@@ -278,6 +281,13 @@ class _Transmission(Component):
 
     def __init__(self, name: str, modulus, efficiency: ParameterLike) -> None:
         self._modulus, self._efficiency = modulus, efficiency
+        if isinstance(efficiency, (int, float, sympy.Number)) and not isinstance(efficiency, bool):
+            eta = float(efficiency)
+            if eta == eta and not 0 < eta <= 1:       # nan and zero: refused by the TF itself
+                if eta != 0:
+                    raise ParameterError(f"{type(self).__name__} {name!r}: efficiency must be in "
+                                         f"(0, 1] (above 1 it would create energy), got "
+                                         f"{efficiency}")
         super().__init__(name)
 
     def build(self) -> None:

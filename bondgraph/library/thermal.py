@@ -30,10 +30,13 @@ Matrix([
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from typing import ClassVar
 
 from ..elements import C, One, Port, R, Se, Sf
 from .._support.sympify import ParameterLike
+from ..elements.rules import check_numbers, rule
+from ..errors import ParameterError
 from ._component import Component, SourceComponent
 from ._thermal_elements import (RS, SIGMA_SB, STEFAN_BOLTZMANN, EntropyCapacity, HeatConduction,
                                 Radiation)
@@ -115,6 +118,9 @@ class Conduction(_TwoTerminal):
     def __init__(self, name: str, *, resistance: ParameterLike = None,
                  length: ParameterLike = None, conductivity: ParameterLike = None,
                  area: ParameterLike = None) -> None:
+        if resistance is not None and (length, conductivity, area) != (None, None, None):
+            raise ParameterError(f"Conduction {name!r}: give resistance or the geometry (length, "
+                                 "conductivity, area), not both: one of them would be ignored")
         self._given = (resistance, length, conductivity, area)
         super().__init__(name)
 
@@ -202,6 +208,15 @@ class HeatFlowSource(SourceComponent):
     inner = "Q"
 
 
+@dataclass(frozen=True, eq=False)
+class _Temperature(Se):
+    """The effort source of :class:`TemperatureSource`: an absolute temperature, not negative
+    (0 K: the sky of a radiation closed form)."""
+
+    def value_rules(self) -> tuple:
+        return rule(self.value, "absolute temperature (K)", "nonnegative", opt_out=False)
+
+
 class TemperatureSource(SourceComponent):
     """A prescribed temperature ``T`` (K) at port ``p`` (an ambient, a thermostat).
 
@@ -215,11 +230,18 @@ class TemperatureSource(SourceComponent):
 
     domain = "thermal"
     port_domains = {"p": "thermal"}
+    #: a temperature is the effort of both thermal graphs: the port takes the domain of
+    #: what it is bonded to (:mod:`bondgraph.domains`)
+    port_domain_choices = {"p": ("thermal", "thermal (entropy)")}
     law = "T = T_s (an effort source)"
     reference = _KMR
     symbol = "Se"
-    source = Se
+    source = _Temperature
     inner = "T"
+
+    def __init__(self, name: str, *, value: ParameterLike = None) -> None:
+        check_numbers(f"TemperatureSource {name!r}", _Temperature("T", value=value).value_rules())
+        super().__init__(name, value=value)
 
 
 class EntropyStore(Component):

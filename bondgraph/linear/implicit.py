@@ -35,7 +35,9 @@ from typing import TYPE_CHECKING, Mapping, Optional
 
 import numpy as np
 
-from ..parameters import ParameterValues, match_values, real_value
+from ..errors import ParameterValueError
+from ..parameters import ParameterValues, match_values, real_value, note_inputs
+from ..elements.rules import check_model_values
 from ..signals import t as T_SYM
 from .operating import Equilibrium, EquilibriumError, _named
 from .operating import equilibrium as explicit_equilibrium
@@ -82,8 +84,12 @@ def implicit_equilibrium(model: "Model", values: ParameterValues, inputs: Option
     from . import trim as _trim
 
     tol = _trim.check_tol(tol, where, EquilibriumError)
-    params = match_values(model.parameters, values, known=model.known_parameters, where=where)
+    try:
+        params = match_values(model.parameters, values, known=model.known_parameters, where=where)
+    except ParameterValueError as exc:
+        raise note_inputs(exc, model.input_names) from None
     pvals = {p: real_value(v, p.name, where) for p, v in params.items()}
+    check_model_values(model, {p.name: v for p, v in pvals.items()}, where=where)
     u0 = {u: 0.0 for u in model.inputs}
     u0.update(_named(model, inputs, model.inputs, "input"))
     held = _named(model, fixed, model.states, "fixed state")

@@ -52,8 +52,16 @@ def state_space(eqs: StateEquations) -> SymbolicStateSpace:
         C, D = linear_form(eqs.output_exprs, x, u, eqs, "output", "y")
         eqs._cache["state_space"] = SymbolicStateSpace(
             A, B, C, D, eqs.state_names, eqs.input_names, eqs.output_names,
-            known_parameters=eqs.known_parameters)
+            known_parameters=eqs.known_parameters, value_checks=_rule_elements(eqs))
     return eqs._cache["state_space"]
+
+
+def _rule_elements(eqs: StateEquations) -> tuple:
+    """The elements whose parameters have rules (:meth:`bondgraph.Element.value_rules`):
+    a symbolic form checks them when it is given values."""
+    augmented = getattr(eqs, "augmented", None)
+    return () if augmented is None else tuple(el for el in augmented.flat.elements
+                                              if el.value_rules())
 
 
 def is_linear(eqs: StateEquations) -> bool:
@@ -148,9 +156,10 @@ def transfer_function(eqs: StateEquations, input=None, output=None, *,
                                  input_names=eqs.input_names,
                                  output_names=(eqs.output_names[i],), s=s, **options)
     augmented = getattr(eqs, "augmented", None)
-    fields = () if augmented is None else tuple(
+    fields = () if augmented is None else tuple(       # fields (definite) and elements' rules
         el for el in augmented.flat.elements
-        if getattr(el, "matrix", None) is not None and hasattr(el, "check_values"))
+        if (getattr(el, "matrix", None) is not None and hasattr(el, "check_values"))
+        or el.value_rules())
     return G._with_metadata(known_parameters=eqs.known_parameters, value_checks=fields)
 
 
@@ -180,7 +189,8 @@ def _descriptor_form(eqs: StateEquations) -> SymbolicStateSpace:
         return SymbolicStateSpace(ss.A, ss.B, ss.C, ss.D, ss.state_names,
                                   ss.input_names, ss.output_names,
                                   sympy.ImmutableMatrix(sympy.eye(len(eqs.states))),
-                                  known_parameters=eqs.known_parameters)
+                                  known_parameters=eqs.known_parameters,
+                                  value_checks=ss.value_checks)
     E, F = eqs.descriptor
     x, u = eqs.states, eqs.inputs
     A, B = linear_form(F, x, u, eqs, "state equation", "F")
@@ -188,7 +198,8 @@ def _descriptor_form(eqs: StateEquations) -> SymbolicStateSpace:
     if E.free_symbols & (set(x) | set(u)):
         raise NonlinearModelError(f"model {eqs.name!r}: E depends on the states")
     return SymbolicStateSpace(A, B, C, D, eqs.state_names, eqs.input_names,
-                              eqs.output_names, E, known_parameters=eqs.known_parameters)
+                              eqs.output_names, E, known_parameters=eqs.known_parameters,
+                              value_checks=_rule_elements(eqs))
 
 
 def linearize(eqs: StateEquations, x0=None, u0=None, *, equilibrium: bool = True,
@@ -232,4 +243,5 @@ def linearize(eqs: StateEquations, x0=None, u0=None, *, equilibrium: bool = True
     return SymbolicStateSpace(jac(eqs.rhs, x), jac(eqs.rhs, u), jac(eqs.output_exprs, x),
                               jac(eqs.output_exprs, u), eqs.state_names, eqs.input_names,
                               eqs.output_names, known_parameters=eqs.known_parameters,
-                              D_derivatives=output_derivative_feedthrough(eqs, jac))
+                              D_derivatives=output_derivative_feedthrough(eqs, jac),
+                              value_checks=_rule_elements(eqs))

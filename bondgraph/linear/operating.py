@@ -37,7 +37,9 @@ import numpy as np
 import sympy
 
 from ..errors import NonlinearModelError
-from ..parameters import ParameterValues, match_values, real_value
+from ..errors import ParameterValueError
+from ..parameters import ParameterValues, match_values, real_value, note_inputs
+from ..elements.rules import check_model_values
 from ..signals import t as T_SYM
 
 if TYPE_CHECKING:
@@ -205,8 +207,12 @@ def equilibrium(model: "Model", values: ParameterValues, inputs: Optional[Mappin
             raise EquilibriumError(f"{where}the state equations depend on "
                                    f"{', '.join(sorted(map(str, ex.free_symbols & bad)))}; "
                                    "an equilibrium needs a time-invariant model")
-    params = match_values(model.parameters, values, known=model.known_parameters, where=where)
+    try:
+        params = match_values(model.parameters, values, known=model.known_parameters, where=where)
+    except ParameterValueError as exc:
+        raise note_inputs(exc, model.input_names) from None
     pvals = {p: real_value(v, p.name, where) for p, v in params.items()}
+    check_model_values(model, {p.name: v for p, v in pvals.items()}, where=where)
     u0 = {u: 0.0 for u in model.inputs}
     u0.update(_named(model, inputs, model.inputs, "input"))
     held = _named(model, fixed, model.states, "fixed state")

@@ -92,6 +92,9 @@ class SymbolicStateSpace(SignalCounts):
     #: feedthrough of input derivatives, ``y = C x + D u + D_derivatives[0] u' + ...``
     #: (outputs that need them: a linearization keeps them here); empty otherwise
     D_derivatives: tuple[sympy.ImmutableMatrix, ...] = ()
+    #: the model's elements whose parameters have rules (a mass positive): :meth:`subs`
+    #: checks them at the values it is given (:mod:`bondgraph.elements.rules`)
+    value_checks: tuple = field(default=(), compare=False, repr=False)
 
     def __post_init__(self) -> None:
         for label in "ABCD":
@@ -134,13 +137,18 @@ class SymbolicStateSpace(SignalCounts):
         given = match_values(self.parameters, values, known=self.known_parameters,
                              partial=partial)
         sub = {p: exact_value(v, p.name) for p, v in given.items()}
+        if self.value_checks:
+            from ..elements.rules import check_values
+
+            check_values(self.value_checks, {p.name: v for p, v in sub.items()})
 
         def f(mat):
             return None if mat is None else sympy.ImmutableMatrix(mat.xreplace(sub))
         return SymbolicStateSpace(f(self.A), f(self.B), f(self.C), f(self.D),
                                   self.state_names, self.input_names, self.output_names, f(self.E),
                                   known_parameters=self.known_parameters,
-                                  D_derivatives=tuple(f(M) for M in self.D_derivatives))
+                                  D_derivatives=tuple(f(M) for M in self.D_derivatives),
+                                  value_checks=self.value_checks)
 
     def to_latex(self) -> str:
         r"""Matrix form ``E x' = A x + B u``, ``y = C x + D u`` in LaTeX.

@@ -4,13 +4,15 @@ from __future__ import annotations
 
 from typing import Any, Mapping, Sequence
 
+from ..elements.rules import check_values
 from ..errors import ParameterValueError
 
 __all__ = ["check_fields_at"]
 
 
 def check_fields_at(model: Any, values: Any, names: Sequence[str], resolved: Sequence[float]) -> None:
-    """Ask each element of ``model`` that answers ``check_values`` (the fields) at these values.
+    """Check every element's :meth:`~bondgraph.Element.value_rules` at these values, and ask
+    each field (``check_values``) whether its matrix is definite there.
 
     ``values`` is what the user gave (names or Symbols to numbers), ``names``
     and ``resolved`` the model's parameters as resolved.  A field whose
@@ -21,10 +23,11 @@ def check_fields_at(model: Any, values: Any, names: Sequence[str], resolved: Seq
         given = {str(getattr(k, "name", k)): v for k, v in values.items()}
     at = {**given, **dict(zip(names, resolved))}
     augmented = getattr(model, "augmented", None)
+    elements = augmented.flat.elements if augmented is not None else ()
+    check_values(elements, at, where=f"model {model.name!r}: ")   # every element's own rules
     try:
-        for element in (augmented.flat.elements if augmented is not None else ()):
-            check = getattr(element, "check_values", None)      # the fields answer
-            if check is not None:
-                check(at)
+        for element in elements:
+            if getattr(element, "matrix", None) is not None:       # the fields answer
+                element.check_values(at)
     except ParameterValueError:
         pass

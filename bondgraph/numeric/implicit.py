@@ -42,7 +42,9 @@ import sympy
 from ..equations import StateEquations
 from ..errors import BondGraphError
 from ..linear import Equilibrium, EquilibriumError
-from ..parameters import ParameterValues, match_values, real_value
+from ..errors import ParameterValueError
+from ..parameters import ParameterValues, match_values, real_value, note_inputs
+from ..elements.rules import check_model_values
 from ..signals import t as T_SYM
 from ._compile import CompiledFunction, guard_user_functions, placeholders
 from .errors import SimulationError
@@ -112,8 +114,10 @@ class ImplicitSolver:
                 z = self._fallback(t, x, u, p, z0)
             # last resorts: the warm start may lie in another basin (a diode's loop left in
             # reverse bias near f = -Is, where dg/dz is huge), and dg/dz may be singular at
-            # z = 0 (orifices f |f| in a network: every slope 0 there)
-            for start in (np.zeros(self.n), np.full(self.n, 1e-3)):
+            # z = 0 (orifices f |f| in a network: every slope 0 there); a non-monotone law
+            # (f**3 - 3 f) whose Newton from 0 cycles between its humps: starts beyond them
+            for v in (0.0, 1e-3, 1.0, -1.0, 10.0, -10.0, 100.0, -100.0):
+                start = np.full(self.n, v)
                 if z is None and not np.array_equal(start, z0):
                     z = self._newton(t, x, u, p, start)
         if z is None:
@@ -243,8 +247,12 @@ def implicit_plant(model: StateEquations, point: Any, inputs: Optional[Mapping],
     if missing:
         raise EquilibriumError(f"{where}the operating point gives no value for the state(s) "
                                f"{', '.join(missing)}")
-    params = match_values(model.parameters, values, known=model.known_parameters, where=where)
+    try:
+        params = match_values(model.parameters, values, known=model.known_parameters, where=where)
+    except ParameterValueError as exc:
+        raise note_inputs(exc, model.input_names) from None
     pvals = {p: real_value(v, p.name, where) for p, v in params.items()}
+    check_model_values(model, {p.name: v for p, v in pvals.items()}, where=where)
     at = {**{s: float(x0[s.name]) for s in model.states},
           **{u: float(u0.get(u.name, 0.0)) for u in model.inputs}, **pvals}
     z_syms = list(model.algebraic)
@@ -349,15 +357,33 @@ def _reduced_differences(model: StateEquations, pvals: Mapping, x0: Mapping, u0:
         with np.errstate(all="ignore"):
             return np.asarray(fh(xx, uu, z), dtype=float).reshape(-1)
 
+    def quotient(v: np.ndarray, which: int, i: int, h: float) -> np.ndarray:
+        up, dn = v.copy(), v.copy()
+        up[i] += h
+        dn[i] -= h
+        a, b = ((up, uv), (dn, uv)) if which == 0 else ((xv, up), (xv, dn))
+        return (reduced(*a) - reduced(*b)) / (2 * h)
+
+    names = [s.name for s in x_syms] + [s.name for s in u_syms]
+
     def columns(v: np.ndarray, which: int) -> np.ndarray:
         cols = []
         for i in range(v.size):
             h = 1e-5 * max(1.0, abs(v[i]))
-            up, dn = v.copy(), v.copy()
-            up[i] += h
-            dn[i] -= h
-            a, b = ((up, uv), (dn, uv)) if which == 0 else ((xv, up), (xv, dn))
-            cols.append((reduced(*a) - reduced(*b)) / (2 * h))
+            wide, narrow = quotient(v, which, i, h), quotient(v, which, i, h / 8)
+            # a slope that exists agrees at both steps; one that grows as the step shrinks
+            # (z = x**(1/3) where the law has zero slope) is infinite: no linearization
+            gap = np.abs(wide - narrow) > 1e-2 * np.maximum(1.0, np.abs(narrow))
+            if np.any(gap) or not np.all(np.isfinite(narrow)):
+                name = names[i if which == 0 else len(x_syms) + i]
+                raise EquilibriumError(
+                    f"model {model.name!r}: the model is not differentiable in {name} at the "
+                    f"operating point: the algebraic unknowns {', '.join(model.algebraic_names)} "
+                    "are determined by a law whose slope is zero there (their own slope is "
+                    "infinite: the difference quotients grow as the step shrinks, "
+                    f"{float(np.max(np.abs(wide))):.4g} then {float(np.max(np.abs(narrow))):.4g}); "
+                    "linearize about another point")
+            cols.append(narrow)
         n_out = len(model.rhs) + len(model.output_exprs)
         return np.array(cols).T if cols else np.zeros((n_out, 0))
     n = len(x_syms)

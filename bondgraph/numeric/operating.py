@@ -25,7 +25,9 @@ from ..equations import StateEquations
 from ..errors import BondGraphError
 from ..linear import Equilibrium, EquilibriumError, linearize
 from ..linear.operating import equilibrium_scaled
-from ..parameters import ParameterValues, match_values, real_value
+from ..errors import ParameterValueError
+from ..parameters import ParameterValues, match_values, real_value, note_inputs
+from ..elements.rules import check_model_values
 from .implicit import implicit_plant
 from .statespace import NumericStateSpace
 
@@ -48,8 +50,12 @@ def linear_plant(model: StateEquations, point: Equilibrium | Mapping, inputs: Op
             raise BondGraphError(f"{where}give the inputs in the Equilibrium, not again as u0")
     else:
         x0, u0 = dict(point or {}), dict(inputs or {})
-    params = match_values(model.parameters, values, known=model.known_parameters, where=where)
+    try:
+        params = match_values(model.parameters, values, known=model.known_parameters, where=where)
+    except ParameterValueError as exc:
+        raise note_inputs(exc, model.input_names) from None
     pvals = {p: sympy.Float(real_value(v, p.name, where), 17) for p, v in params.items()}
+    check_model_values(model, {p.name: float(v) for p, v in pvals.items()}, where=where)
     if _at_kink(model, x0, u0, pvals):
         # sign(0)**2 = 0 in a symbolic slope that is a/(2 sqrt b) from both sides: the mean
         # of the plants just beside the point (the point itself is checked first)

@@ -72,6 +72,7 @@ from ._compile import CompiledFunction, placeholders, user_functions
 from ._monomials import compile_entries
 from ._schur import implicit_blocks, reduce, reduce_batch
 from ..elements.fields.algebra import check_definite
+from ..elements.rules import check_model_values
 from ._linalg import freeze
 from .batch import BatchStateSpace, SparseBatchStateSpace
 from .errors import NotPicklableError, NumericError, ParameterValueError
@@ -308,7 +309,9 @@ class NumericModel(_CompiledModel):
         """
         as_sparse = self._is_sparse(sparse)
         vec = resolve_parameters(self._params, values, model=self._model.name,
-                                 known=self._known_parameters())
+                                 known=self._known_parameters(), inputs=self.input_names)
+        check_model_values(self._model, dict(zip(self.parameter_names, vec)),
+                           where=f"model {self._model.name!r}: ")
         vals = self._evaluate([np.float64(v) for v in vec], None)
         self._check_definite([np.float64(v) for v in vec], None)
         self._check_finite(vals, vec, False)
@@ -351,8 +354,10 @@ class NumericModel(_CompiledModel):
         """
         as_sparse = self._is_sparse(sparse)
         arr = resolve_batch(self._params, values, model=self._model.name,
-                            known=self._known_parameters())
+                            known=self._known_parameters(), inputs=self.input_names)
         size = arr.shape[0]
+        check_model_values(self._model, {n: arr[:, j] for j, n in enumerate(self.parameter_names)},
+                           where=f"model {self._model.name!r}: ")
         vals = self._evaluate([arr[:, j] for j in range(arr.shape[1])], size)
         self._check_definite([arr[:, j] for j in range(arr.shape[1])], size)
         self._check_finite(vals, arr, True)

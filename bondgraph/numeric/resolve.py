@@ -25,17 +25,20 @@ from typing import Any, Iterable, Mapping, Sequence, Union
 import numpy as np
 import sympy
 
-from ..parameters import ParameterValues, match_values, parameter_name, real_value
+from ..parameters import ParameterValues, match_values, note_inputs, parameter_name, real_value
 from .errors import ParameterValueError
 
 __all__ = ["ParameterValues", "resolve_parameters", "resolve_batch", "parameter_name"]
 
 
 def _match(parameters: Sequence[sympy.Symbol], values: Mapping, where: str,
-           known: Iterable[str] = ()) -> dict[str, Any]:
+           known: Iterable[str] = (), inputs: Iterable[str] = ()) -> dict[str, Any]:
     # matched by name: the model's own symbols serve (no Symbol built per name and call)
-    return {p.name: v for p, v in match_values(parameters, values, known=known,
-                                               where=where).items()}
+    try:
+        matched = match_values(parameters, values, known=known, where=where)
+    except ParameterValueError as exc:
+        raise note_inputs(exc, inputs) from None      # an input given as a parameter says so
+    return {p.name: v for p, v in matched.items()}
 
 
 def _scalar(value: Any, name: str, where: str) -> float:
@@ -43,7 +46,8 @@ def _scalar(value: Any, name: str, where: str) -> float:
 
 
 def resolve_parameters(parameters: Sequence[sympy.Symbol], values: ParameterValues, *,
-                       model: str = "", known: Iterable[str] = ()) -> np.ndarray:
+                       model: str = "", known: Iterable[str] = (),
+                       inputs: Iterable[str] = ()) -> np.ndarray:
     """Values in the order of ``parameters``, checked.
 
     Parameters
@@ -57,6 +61,8 @@ def resolve_parameters(parameters: Sequence[sympy.Symbol], values: ParameterValu
     known : iterable of str, optional
         Names the model definition knows beyond ``parameters``; their values
         are accepted and ignored (see :mod:`bondgraph.parameters`).
+    inputs : iterable of str, optional
+        The model's input names: one given as a parameter is named as an input.
 
     Returns
     -------
@@ -80,13 +86,13 @@ def resolve_parameters(parameters: Sequence[sympy.Symbol], values: ParameterValu
     """
     where = f"model {model!r}: " if model else ""
     names = [p.name for p in parameters]
-    given = _match(parameters, values, where, known)
+    given = _match(parameters, values, where, known, inputs)
     return np.array([_scalar(given[n], n, where) for n in names], dtype=float)
 
 
 def resolve_batch(parameters: Sequence[sympy.Symbol],
                   values: Union[ParameterValues, np.ndarray], *, model: str = "",
-                  known: Iterable[str] = ()) -> np.ndarray:
+                  known: Iterable[str] = (), inputs: Iterable[str] = ()) -> np.ndarray:
     """A ``(P, k)`` array of parameter sets, one row per set, columns in order.
 
     Parameters
@@ -124,7 +130,7 @@ def resolve_batch(parameters: Sequence[sympy.Symbol],
     names = [p.name for p in parameters]
     k = len(names)
     if isinstance(values, Mapping):
-        given = _match(parameters, values, where, known)
+        given = _match(parameters, values, where, known, inputs)
         cols = [_column(given[n], n, where) for n in names]
         lengths = {c.shape[0] for c in cols if c.ndim == 1}
         if len(lengths) > 1:

@@ -130,7 +130,8 @@ class NumericDynamics(_CompiledModel):
     def parameter_vector(self, values: ParameterValues) -> np.ndarray:
         """Checked parameter values in order (see :func:`~bondgraph.numeric.resolve_parameters`)."""
         return resolve_parameters(self._params, values, model=self._model.name,
-                                  known=self._model.known_parameters)
+                                  known=self._model.known_parameters,
+                                  inputs=self._model.input_names)
 
     def derivatives(self, t: float, x, u, p) -> np.ndarray:
         """``x'`` at time ``t``, state ``x`` (n,), input ``u`` (m,) and parameters ``p`` (k,).
@@ -296,9 +297,16 @@ def _check_history(dyn: NumericDynamics, t: np.ndarray, data: np.ndarray, names:
     if data.size and bad.any():
         row = int(np.flatnonzero(bad.any(axis=1))[0])
         col = int(np.flatnonzero(bad[row])[0])
+        shown = ""
+        if what == "output":         # the expression: the law evaluated outside its domain
+            exprs = getattr(dyn.model, "output_exprs", ())
+            text = str(exprs[row]) if row < len(exprs) else ""
+            shown = f" = {text if len(text) <= 80 else text[:77] + '...'}" if text else ""
         raise SimulationError(
-            f"model {dyn.name!r}: {what} {names[row]} is {data[row, col]:g} (not finite) at "
-            f"t = {t[col]:g} (first of {int(bad[row].sum())} such samples)")
+            f"model {dyn.name!r}: {what} {names[row]}{shown} is {data[row, col]:g} (not finite) at "
+            f"t = {t[col]:g} (first of {int(bad[row].sum())} such samples); a law is evaluated "
+            "outside its domain (log or sqrt of a negative value, division by zero) or the "
+            "state overflowed")
 
 
 def simulate(model: Union[StateEquations, NumericDynamics], values: ParameterValues,

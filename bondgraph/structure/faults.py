@@ -47,6 +47,7 @@ import numpy as np
 import sympy
 
 from .._support.sympify import parameter_symbols
+from ..parameters import real_value
 from ..model import Model
 from ..signals import t as T
 from ._generic import StructureError, linear_form
@@ -106,22 +107,59 @@ class FaultDiagnosis:
         """Residuals of every ARR on sampled data (rows: ARRs, columns: samples).
 
         Derivatives of the sampled signals are estimated by :func:`numpy.gradient`
-        (second-order central differences), so the data should be smooth and
-        finely sampled.
+        (second-order differences, exact for quadratics), so the data should be
+        smooth and finely sampled.
+
+        Raises
+        ------
+        StructureError
+            Times that are not finite or not strictly monotonic; a signal that
+            is not a finite 1-D array as long as ``t``; fewer samples than the
+            derivatives the ARRs need (``2 k + 1`` for a ``k``-th derivative);
+            a parameter value that is not a finite real number.
         """
-        t = np.asarray(t, dtype=float)
+        for what, given in (("inputs", inputs), ("measurements", measurements),
+                            ("values", values)):
+            if not isinstance(given, Mapping):
+                raise StructureError(f"residuals: {what} must be a mapping of name to "
+                                     f"{'number' if what == 'values' else 'samples'}; got "
+                                     f"{type(given).__name__}")
+        need = max((d.derivative_count for r in self.arrs for d in r.atoms(sympy.Derivative)),
+                   default=0)
+        t = _samples(t, "t")
+        if t.ndim != 1:
+            raise StructureError(f"residuals: t must be a 1-D array of sample times; got shape "
+                                 f"{t.shape}")
+        steps = np.diff(t)
+        if not (np.all(steps > 0) or np.all(steps < 0)):
+            raise StructureError("residuals: the sample times t must be strictly increasing (or "
+                                 "strictly decreasing)")
+        fewest = max(2 * need + 1, 1)
+        if len(t) < fewest:
+            raise StructureError(
+                f"residuals: {len(t)} sample(s) are too few: the ARRs use derivatives up to order "
+                f"{need}, estimated from at least {fewest} samples (a central difference per "
+                "order); give more samples")
         arrays: dict = {}
         subs: dict = {}
         k = 0
-        for name, data in list(inputs.items()) + list(measurements.items()):
-            f = sympy.Function(name)(T)
-            d = np.asarray(data, dtype=float)
-            for order in range(4):
-                sym = sympy.Symbol(f"_sig{k}")
-                k += 1
-                subs[f if order == 0 else sympy.Derivative(f, (T, order))] = sym
-                arrays[sym] = d
-                d = np.gradient(d, t)
+        for what, given in (("input", inputs), ("measurement", measurements)):
+            for name, data in given.items():
+                f = sympy.Function(name)(T)
+                d = _samples(data, f"{what} {name!r}")
+                if d.shape != t.shape:
+                    raise StructureError(f"residuals: {what} {name!r} has shape {d.shape}, but t "
+                                         f"has {len(t)} samples; give one value per sample time")
+                for order in range(need + 1):
+                    sym = sympy.Symbol(f"_sig{k}")
+                    k += 1
+                    subs[f if order == 0 else sympy.Derivative(f, (T, order))] = sym
+                    arrays[sym] = d
+                    if order < need:
+                        d = np.gradient(d, t, edge_order=2 if len(t) > 2 else 1)
+        values = {str(getattr(name, "name", name)): real_value(v, str(getattr(name, "name", name)),
+                                                               "residuals: ")
+                  for name, v in values.items()}
         out = []
         for r in self.arrs:
             syms = {s: values[s.name] for s in r.free_symbols - {T} if s.name in values}
@@ -154,6 +192,18 @@ class FaultDiagnosis:
             cells = " ".join(f"{v:>{len('ARR') + len(str(k + 1))}}" for k, v in enumerate(s))
             lines.append(f"  {c:{width}} {cells}  {int(c in det)} {int(c in iso)}")
         return "\n".join(lines)
+
+
+def _samples(data, what: str) -> np.ndarray:
+    """Sampled data as a float array: real, finite numbers (text is never parsed)."""
+    arr = np.asarray(data)
+    if arr.dtype.kind not in "iuf":
+        raise StructureError(f"residuals: {what} must be real numbers; got {arr.dtype} values")
+    arr = arr.astype(float)
+    if not np.all(np.isfinite(arr)):
+        i = int(np.argmax(~np.isfinite(arr.ravel())))
+        raise StructureError(f"residuals: {what} must be finite; sample {i} is {arr.ravel()[i]}")
+    return arr
 
 
 def fault_signatures(model: Model) -> FaultDiagnosis:

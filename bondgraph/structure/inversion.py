@@ -42,9 +42,11 @@ import numpy as np
 import scipy.signal
 import sympy
 
+from ..parameters import real_value
 from ..model import Model
 from ..signals import t as T
 from ._generic import StructureError
+from ._smooth import derivatives
 from .zeros import S, zero_structure
 
 __all__ = ["Inversion", "invert"]
@@ -131,7 +133,7 @@ def _subs(expr: sympy.Expr, vals: Mapping[str, float]) -> dict:
             continue
         if s.name not in vals:
             raise StructureError(f"values: missing parameter {s.name!r} for the inversion")
-        out[s] = sympy.Float(vals[s.name], 30)
+        out[s] = sympy.Float(real_value(vals[s.name], s.name, "values: "), 30)
     return out
 
 
@@ -175,6 +177,14 @@ def invert(model: Model, trajectory: sympy.Expr, *, input: Optional[str] = None,
         an expression of ``t``, zero dynamics without ``values``, or a
         non-minimum-phase pair (zeros named) without ``minimum_phase_part``.
     """
+    if not isinstance(model, Model):
+        raise StructureError(f"model: expected a derived bondgraph Model, got {type(model).__name__}")
+    if not isinstance(minimum_phase_part, bool):
+        raise StructureError(f"minimum_phase_part: expected True or False, got "
+                             f"{type(minimum_phase_part).__name__} {minimum_phase_part!r}")
+    if values is not None and not isinstance(values, Mapping):
+        raise StructureError(f"values: expected a mapping of parameter name to number, got "
+                             f"{type(values).__name__}")
     traj = sympy.sympify(trajectory, strict=True) if isinstance(trajectory, (int, float)) \
         else trajectory
     if not isinstance(traj, sympy.Expr):
@@ -193,9 +203,7 @@ def invert(model: Model, trajectory: sympy.Expr, *, input: Optional[str] = None,
     nz = pn.degree()
     conds = [f"relative degree {r} (shortest causal path {' -> '.join(z.path)}): "
              f"{z.output}(t) must be {max(r, 0)} times differentiable"]
-    diffs = [sympy.diff(traj, T, k) for k in range(max(r, 0) + 1)]
-    if any(d.has(sympy.Derivative) for d in diffs):
-        raise StructureError(f"trajectory {traj} is not differentiable {r} times in t")
+    diffs = derivatives(traj, max(r, 0))     # refuses kinks, jumps and nan (Dirac impulses)
     conds[-1] += " (it is)"
     vals = dict(values or {})
     mp: Optional[bool] = None
@@ -226,7 +234,7 @@ def invert(model: Model, trajectory: sympy.Expr, *, input: Optional[str] = None,
     u_expr = None
     if not nz:
         c0 = pn.LC()
-        u_expr = sympy.expand(sum(c * sympy.diff(traj, T, m[0]) for m, c in pd.terms()) / c0)
+        u_expr = sympy.expand(sum(c * diffs[m[0]] for m, c in pd.terms()) / c0)
     return Inversion(model=model.name, input=z.input, output=z.output, trajectory=traj,
                      relative_degree=r, zero_dynamics=nz, numerator=pn.as_expr(),
                      denominator=pd.as_expr(), input_expr=u_expr, minimum_phase=mp,

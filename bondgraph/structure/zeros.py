@@ -43,6 +43,7 @@ import scipy.linalg
 import sympy
 
 from ..errors import BondGraphWarning
+from ..parameters import real_value
 from ..model import Model, derive
 from ._generic import LinearForm, StructureError, at_point, linear_form, random_points
 from ._paths import signal_digraph
@@ -137,7 +138,15 @@ class ZeroStructure:
         return np.linalg.eigvals(Av) if Av.size else np.array([])
 
     def minimum_phase(self, values: Mapping[str, float], *, tol: float = 1e-9) -> bool:
-        """Whether every invariant zero at ``values`` has a negative real part."""
+        """Whether every invariant zero at ``values`` has a negative real part.
+
+        Raises
+        ------
+        StructureError
+            ``tol`` not a finite number >= 0; a value missing, or not a finite
+            real number (naming the parameter).
+        """
+        _tolerance(tol)
         z = self.zeros_at(values)
         return bool(np.all(z.real < -tol * max(1.0, float(np.max(np.abs(z), initial=0.0)))))
 
@@ -147,6 +156,7 @@ class ZeroStructure:
         A collocated lossless pair has this property: between two consecutive
         poles (frequencies, counted once with their conjugates) lies one zero.
         """
+        _tolerance(tol)
         p, z = self.poles_at(values), self.zeros_at(values)
         scale = max(1.0, float(np.max(np.abs(np.concatenate([p, z])), initial=0.0)))
         if np.any(np.abs(p.real) > tol * scale) or np.any(np.abs(z.real) > tol * scale):
@@ -182,7 +192,18 @@ class ZeroStructure:
         return "\n".join(lines)
 
 
+def _tolerance(tol: object) -> float:
+    if isinstance(tol, bool) or not isinstance(tol, (int, float)) or not 0 <= tol < float("inf"):
+        raise StructureError(f"tol: expected a finite number >= 0, got {type(tol).__name__} {tol!r}")
+    return float(tol)
+
+
 def _subs(expr, values: Mapping[str, float]) -> dict:
+    if not isinstance(values, Mapping):
+        raise StructureError(f"values must be a mapping of parameter name to number; got "
+                             f"{type(values).__name__}")
+    values = {str(getattr(k, "name", k)): real_value(v, str(getattr(k, "name", k)))
+              for k, v in values.items()}       # every value given: finite and real
     syms = {s.name: s for s in expr.free_symbols}
     missing = sorted(n for n in syms if n not in values and n != "s")
     if missing:

@@ -184,7 +184,9 @@ def test_degenerate_values_refused_at_construction(make, culprit):
 
 
 def test_negative_values_allowed_for_active_elements():
-    assert bg.R("b", -2).parameter == -2
+    assert bg.R("b", -2, active=True).parameter == -2
+    with pytest.raises(bg.ParameterError, match="R:b: its resistance -2 must not be negative"):
+        bg.R("b", -2)
 
 
 def test_every_package_error_is_a_bondgraph_error():

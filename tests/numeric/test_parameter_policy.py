@@ -177,13 +177,21 @@ def test_keys_may_be_symbols_or_names_but_not_twice():
 
 def test_zero_divisor_value_names_the_element():
     plant = bg.compile_plant(msd())
-    with pytest.raises(bg.ParameterValueError, match=r"I:m \(m = 0\) divides by a parameter that is zero"):
+    with pytest.raises(bg.ParameterValueError, match=r"I:m: its mass \(inertance\) m = 0 must be positive"):
         plant.plant({**VALUES, "m": 0.0})
 
 
-def test_negative_values_are_allowed():
-    """Active elements: a negative damper gives the unstable poles of 2 s^2 - 6 s + 4."""
-    P = bg.compile_plant(msd()).plant({**VALUES, "b": -6.0})
+def test_negative_values_are_refused_unless_active():
+    """A negative damper is refused by default; an active one (active=True) gives the
+    unstable poles of 2 s^2 - 6 s + 4."""
+    with pytest.raises(bg.ParameterValueError, match=r"R:b: its resistance b = -6 must not be negative"):
+        bg.compile_plant(msd()).plant({**VALUES, "b": -6.0})
+    g = bg.BondGraph("msd")
+    v = bg.One("v")
+    g.add(bg.Se("F"), v, bg.I("m"), bg.R("b", "b", active=True), bg.C("c"))
+    for t, h in [("F", v), (v, "m"), (v, "b"), (v, "c")]:
+        g.connect(t, h)
+    P = bg.compile_plant(bg.derive(g)).plant({**VALUES, "b": -6.0})
     assert np.allclose(np.sort(np.linalg.eigvals(P.A).real), [1.0, 2.0])
 
 

@@ -27,7 +27,7 @@ from sympy.physics.units import Dimension
 from sympy.physics.units.prefixes import Prefix
 from sympy.physics.units.systems.si import SI, dimsys_SI
 
-__all__ = ["Dim", "ZERO", "unit_dims", "text", "Mismatch", "Unknown", "dims_of", "si_value",
+__all__ = ["Dim", "ZERO", "unit_dims", "text", "Mismatch", "Unknown", "dims_of", "si_value", "BadQuantity",
            "BASE_UNITS", "NAMED"]
 
 #: the SI base dimensions, in order, and a probe slot (last) used to find exponents
@@ -79,16 +79,77 @@ def text(d: Dim) -> str:
     return str(sympy.Mul(*[b**p for b, p in zip(BASE_UNITS, d)]))
 
 
+class BadQuantity(ValueError):
+    """A unit-carrying value that is not a finite real number times a unit (the caller
+    names the parameter)."""
+
+
+def _term(term: sympy.Expr) -> tuple[sympy.Expr, sympy.Expr]:
+    """``(number, unit)`` of one term ``c * unit``: ``c`` a finite real number, ``unit`` a
+    product of powers of quantities."""
+    coeff, unit = term.as_coeff_Mul()
+    factors = []
+    for f in sympy.Mul.make_args(unit):
+        base = f.base if isinstance(f, sympy.Pow) and f.exp.is_Rational else f
+        if isinstance(base, (u.Quantity, Prefix)):
+            factors.append(f)
+        else:
+            coeff = coeff * f
+    if coeff.free_symbols:
+        raise BadQuantity(f"its coefficient {coeff} is symbolic; a value with units is a "
+                          "number times a unit (give a symbol its number with the others)")
+    if not factors:
+        raise BadQuantity(f"the term {term} has no unit")
+    if not (coeff.is_number and coeff.is_extended_real and coeff.is_finite):
+        raise BadQuantity(f"its coefficient {coeff} is not a finite real number")
+    return coeff, sympy.Mul(*factors)
+
+
 def si_value(value: sympy.Expr) -> tuple[float, Dim, str]:
     """``(SI number, dimension, unit text)`` of a value carrying units, e.g. ``2*u.newton/u.mm``.
+
+    A sum is accepted when its terms have one dimension (``1*u.m + 20*u.cm``).
+
+    Raises
+    ------
+    BadQuantity
+        A symbolic, complex or infinite coefficient, or terms of different
+        dimensions (``500*u.gram + 1*u.meter``), naming both units.
 
     Examples
     --------
     >>> si_value(2 * u.newton / u.millimeter)[::2]
     (2000.0, 'newton/millimeter')
+    >>> si_value(1 * u.meter + 20 * u.centimeter)[::2]
+    (1.2, 'centimeter')
+    >>> si_value(500 * u.gram + 1 * u.meter)
+    Traceback (most recent call last):
+    ...
+    bondgraph.library.units._dims.BadQuantity: it adds 500*gram (mass) and meter (length), which have different units
     """
-    coeff, unit = sympy.sympify(value, strict=True).as_coeff_Mul()
-    return float(coeff * _si_factor(unit)), unit_dims(unit), str(unit)
+    expr = sympy.sympify(value, strict=True)
+    terms = [_term(t) for t in sympy.Add.make_args(expr)]
+    dims = [unit_dims(unit) for _, unit in terms]
+    for (c, unit), d in zip(terms[1:], dims[1:]):
+        if d != dims[0]:
+            c0, u0 = terms[0]
+            raise BadQuantity(f"it adds {c0 * u0} ({_dimension_name(u0)}) and {c * unit} "
+                              f"({_dimension_name(unit)}), which have different units")
+    total = sum((c * _si_factor(unit) for c, unit in terms), sympy.Integer(0))
+    try:
+        number = float(total)
+    except (TypeError, ValueError, OverflowError):
+        raise BadQuantity(f"its value {total} is not a finite real number") from None
+    if number != number or number in (float("inf"), float("-inf")):
+        raise BadQuantity(f"its value {total} is not finite")
+    return number, dims[0], str(terms[0][1])
+
+
+def _dimension_name(unit: sympy.Expr) -> str:
+    try:
+        return str(SI.get_dimensional_expr(unit))
+    except Exception:  # pragma: no cover - a unit sympy cannot name
+        return str(unit)
 
 
 @functools.lru_cache(maxsize=1024)

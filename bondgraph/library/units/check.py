@@ -23,10 +23,11 @@ import sympy.physics.units as u
 
 from ...errors import BondGraphError
 from ...flatten import FlatGraph, flatten
-from ...graph import BondGraph, walk
+from ...domains import DomainError, given_seeds, infer_domains
+from ...graph import BondGraph
 from ...elements.protocol import Element, LocalVariables
 from ...signals import t as T_SYM
-from ._dims import ZERO, Dim, Mismatch, Unknown, dims_of, si_value, text, unit_dims
+from ._dims import BadQuantity, ZERO, Dim, Mismatch, Unknown, dims_of, si_value, text, unit_dims
 
 __all__ = ["Domain", "DOMAINS", "UnitError", "UnitReport", "bond_domains", "check_units",
            "si_values", "signal_units"]
@@ -73,13 +74,6 @@ DOMAINS: dict[str, Domain] = {d.name: d for d in (
 _TIME = unit_dims(u.second)
 
 
-def _domain(name: object, where: str) -> str:
-    if not isinstance(name, str) or name not in DOMAINS:
-        raise UnitError(f"{where}: unknown domain {name!r}; expected one of "
-                        f"{', '.join(DOMAINS)}")
-    return name
-
-
 # ---------------------------------------------------------------- values
 def _carries_units(value: Any) -> bool:
     return isinstance(value, sympy.Basic) and bool(value.atoms(u.Quantity))
@@ -94,38 +88,38 @@ def si_values(values: Mapping[str, Any]) -> dict[str, Any]:
     >>> f"{si['Jm']:g}", si["Rm"]
     ('3.87e-07', 2.6)
     """
-    return {k: (si_value(v)[0] if _carries_units(v) else v) for k, v in values.items()}
+    if not isinstance(values, Mapping):
+        raise UnitError(f"si_values: values must be a mapping of parameter name to value; got "
+                        f"{type(values).__name__}")
+    return {k: (_si(v, k)[0] if _carries_units(v) else v) for k, v in values.items()}
+
+
+def _si(value: Any, name: str) -> tuple:
+    """:func:`si_value` of parameter ``name``'s value; a bad quantity is a :class:`UnitError`."""
+    try:
+        return si_value(value)
+    except BadQuantity as exc:
+        raise UnitError(f"parameter {name!r}: the value {value} is not a number with a unit: "
+                        f"{exc}") from None
 
 
 # ---------------------------------------------------------------- domains
-def _seeds_from_components(graph: BondGraph, flat: FlatGraph) -> list[tuple[int, str, str]]:
-    """(flat bond index, domain, who) for every port of a library component."""
-    seeds = []
-    for prefix, sub in walk(graph):
-        port_domains = getattr(sub, "port_domains", None)
-        if not port_domains or not prefix:
-            continue
-        inner = prefix                        # the component's own path, with its dot
-        for b in sub.bonds:
-            for port, other, port_is_tail in ((b.tail, b.head, True), (b.head, b.tail, False)):
-                if port not in sub.ports or port not in port_domains:
-                    continue
-                who = f"port {inner}{port} of component {type(sub).__name__}"
-                path = inner + port
-                if path in flat.index:       # the port became a 0-junction
-                    ks = list(flat.incidence[path])
-                else:
-                    ks = [k for k in flat.incidence.get(inner + other, ())
-                          if (flat.bonds[k].head == inner + other) == port_is_tail
-                          and not (flat.bonds[k].tail if port_is_tail else
-                                   flat.bonds[k].head).startswith(inner)]
-                seeds += [(k, port_domains[port], who) for k in ks]
-    return seeds
+def _flat(graph: Union[BondGraph, FlatGraph]) -> FlatGraph:
+    """``flatten(graph)``; conflicting domains are a :class:`UnitError` here."""
+    if isinstance(graph, FlatGraph):
+        return graph
+    try:
+        return flatten(graph)
+    except DomainError as exc:
+        raise UnitError(str(exc)) from None
 
 
 def bond_domains(graph: Union[BondGraph, FlatGraph], *,
                  domains: Optional[Mapping[Union[str, int], str]] = None) -> dict[int, str]:
     """The domain of each bond (flat bond number -> domain name) that can be inferred.
+
+    The inference of :mod:`bondgraph.domains` (which :func:`bondgraph.flatten`
+    runs on every graph), with the ``domains`` a user names as further seeds.
 
     Parameters
     ----------
@@ -150,45 +144,12 @@ def bond_domains(graph: Union[BondGraph, FlatGraph], *,
     >>> bond_domains(g, domains={"V": "electrical", "J": "rotation"})
     {1: 'electrical', 2: 'electrical', 3: 'electrical', 4: 'rotation', 5: 'rotation'}
     """
-    flat = graph if isinstance(graph, FlatGraph) else flatten(graph)
-    parent = list(range(len(flat.bonds)))
-
-    def find(k: int) -> int:
-        while parent[k] != k:
-            parent[k] = parent[parent[k]]
-            k = parent[k]
-        return k
-
-    for el in flat.elements:
-        inc = flat.incidence[el.name]
-        for group in el.domain_groups(len(inc)):
-            for p in group[1:]:
-                parent[find(inc[p])] = find(inc[group[0]])
-    seeds: list[tuple[int, str, str]] = []
-    for el in flat.elements:
-        inc = flat.incidence[el.name]
-        into = [flat.bonds[k].head == el.name for k in inc]
-        for p, dom in el.fixed_domains(into).items():
-            seeds.append((inc[p], _domain(dom, el.label()), el.label()))
-    if isinstance(graph, BondGraph):
-        seeds += _seeds_from_components(graph, flat)
-    for key, dom in (domains or {}).items():
-        if isinstance(key, int) and not isinstance(key, bool):
-            flat.bond(key)
-            seeds.append((key - 1, _domain(dom, f"bond {key}"), f"bond {key} (given)"))
-            continue
-        el = flat.element(str(key))
-        inc = flat.incidence[el.name]
-        group = el.domain_groups(len(inc))[0]
-        seeds.append((inc[group[0]], _domain(dom, el.label()), f"{el.label()} (given)"))
-    found: dict[int, tuple[str, str]] = {}
-    for k, dom, who in seeds:
-        root = find(k)
-        if root in found and found[root][0] != dom:
-            raise UnitError(f"bond {k + 1} would be {dom} (from {who}) and {found[root][0]} "
-                            f"(from {found[root][1]}); a TF or GY must separate two domains")
-        found.setdefault(root, (dom, who))
-    return {k + 1: found[find(k)][0] for k in range(len(flat.bonds)) if find(k) in found}
+    flat = _flat(graph)
+    try:
+        return infer_domains(flat, graph if isinstance(graph, BondGraph) else None,
+                             given_seeds(flat, domains))
+    except DomainError as exc:
+        raise UnitError(str(exc)) from None
 
 
 # ---------------------------------------------------------------- the check
@@ -227,10 +188,15 @@ class _DimLocal(LocalVariables):
         self.states = ()
         self.input_symbol = sympy.Dummy(f"u_{el.name}")
         self._inputs = []
+        #: the placeholders by the names messages show: the bond variable (``e_3``: the
+        #: effort of bond 3), never an internal name
+        self.shown: dict = {}
         for p, dims in enumerate(port_dims):
             sym = sympy.Dummy(f"in{p}")
             known[sym] = None if dims is None else dims[0 if effort_in[p] else 1]
             self._inputs.append(sym)
+            self.shown[sym] = sympy.Symbol(f"{'e' if effort_in[p] else 'f'}_{self._inc[p] + 1}")
+        self.shown[self.input_symbol] = sympy.Symbol(el.name)
 
     def sign(self, port: int) -> int:
         return 1 if self.into(port) else -1
@@ -253,7 +219,7 @@ def _parameter_dims(values: Mapping[str, Any]) -> tuple[dict, dict]:
     shown: dict[str, str] = {}
     for name, v in values.items():
         if _carries_units(v):
-            _, d, unit = si_value(v)
+            _, d, unit = _si(v, name)
             dims[name], shown[name] = d, unit
         elif isinstance(v, (int, float)) and not isinstance(v, bool):
             dims[name] = None     # a bare number: no units declared
@@ -290,7 +256,13 @@ def check_units(graph: Union[BondGraph, FlatGraph], values: Mapping[str, Any], *
     """
     from ...causality import assign_causality
 
-    flat = graph if isinstance(graph, FlatGraph) else flatten(graph)
+    if not isinstance(values, Mapping):
+        raise UnitError(f"check_units: values must be a mapping of parameter name to value; got "
+                        f"{type(values).__name__}")
+    if domains is not None and not isinstance(domains, Mapping):
+        raise UnitError(f"check_units: domains must be a mapping of element name or bond number "
+                        f"to domain name; got {type(domains).__name__}")
+    flat = _flat(graph)
     doms = bond_domains(graph, domains=domains)
     aug = assign_causality(flat)
     pdims, shown = _parameter_dims(values)
@@ -310,6 +282,7 @@ def check_units(graph: Union[BondGraph, FlatGraph], values: Mapping[str, Any], *
         state_syms = []
         for name, rate in zip(names, rates):
             sym = sympy.Dummy(name)
+            local.shown[sym] = sympy.Symbol(name)          # messages show the state's name
             try:
                 known[sym] = tuple(a + b for a, b in zip(dims_of(rate, known), _TIME))
                 units[name], dims[name] = text(known[sym]), known[sym]
@@ -345,13 +318,22 @@ def check_units(graph: Union[BondGraph, FlatGraph], values: Mapping[str, Any], *
                 given = ", ".join(f"{s.name} in {shown[s.name]}" for s in
                                   sorted(rel.free_symbols, key=str) if s.name in shown)
                 raise UnitError(f"{el.label()}: its relation on bond {inc[p] + 1} adds or "
-                                f"transforms quantities of different units ({exc}); its "
+                                f"transforms quantities of different units "
+                                f"({_readable(exc, local)}); its "
                                 f"parameters: {given or 'none with units'}") from None
             if got[:-1] != want[:-1]:
                 raise UnitError(_culprit(el, rel, known, got, want, inc[p] + 1,
-                                         doms[inc[p] + 1], shown))
+                                         doms[inc[p] + 1], shown, rel.xreplace(local.shown)))
             checked += 1
     return UnitReport(doms, checked, tuple(unchecked), units, dims)
+
+
+def _readable(exc: Exception, local: _DimLocal) -> str:
+    """An exception's text with the placeholders' internal names replaced by bond variables."""
+    out = str(exc)
+    for dummy, name in local.shown.items():
+        out = out.replace(str(dummy), str(name))
+    return out
 
 
 def _learn(exprs, known: dict, pdims: Mapping[str, Optional[Dim]]) -> None:
@@ -362,7 +344,7 @@ def _learn(exprs, known: dict, pdims: Mapping[str, Optional[Dim]]) -> None:
                 known[sym] = pdims.get(sym.name)
 
 
-def _culprit(el, rel, known, got, want, bond, dom, shown) -> str:
+def _culprit(el, rel, known, got, want, bond, dom, shown, printed) -> str:
     d = DOMAINS[dom]
     need = f"(effort {text(d.effort_dims)}, flow {text(d.flow_dims)})"
     params = [s for s in rel.free_symbols if type(s) is sympy.Symbol and known.get(s) is not None
@@ -374,7 +356,7 @@ def _culprit(el, rel, known, got, want, bond, dom, shown) -> str:
             expected = tuple(k + (w - g) / a for k, w, g in zip(known[p], want, got))
             return (f"{el.label()}, parameter {p.name}: its value has the unit {shown[p.name]} "
                     f"({text(known[p])}), but its {dom} bond {bond} needs {text(expected)} {need}")
-    return (f"{el.label()}: its relation {rel} on its {dom} bond {bond} has the unit {text(got)}, "
+    return (f"{el.label()}: its relation {printed} on its {dom} bond {bond} has the unit {text(got)}, "
             f"expected {text(want)} {need}")
 
 

@@ -46,7 +46,7 @@ def model_units(model: Model, graph: BondGraph, values: Mapping[str, Any], *,
     refused here too); an output whose dimension cannot be known (a
     parameter without units in it) is left out.
     """
-    from .check import UnitError, check_units
+    from .check import UnitError, _si, check_units
 
     if not hasattr(model, "states") and hasattr(model, "switches"):
         raise UnitError(f"model {getattr(model, 'name', '?')!r} is switched (a SwitchedModel): "
@@ -60,7 +60,7 @@ def model_units(model: Model, graph: BondGraph, values: Mapping[str, Any], *,
             out[sym.name] = known[sym] = report.dims[sym.name]
     for name, v in values.items():
         if isinstance(v, sympy.Basic) and v.atoms(u.Quantity):
-            d = si_value(v)[1]
+            d = _si(v, name)[1]
             for p in model.parameters:
                 if p.name == name:
                     known[p] = d
@@ -97,9 +97,16 @@ def plant_with_units(model: Model, graph: BondGraph, values: Mapping[str, Any], 
     >>> float(p.A[0, 0]), dict(p.units)          # -1/(R C) = -100 per second
     (-100.0, {'q_C': 'coulomb', 'V': 'volt', 'vC': 'volt'})
     """
+    from ...equations import StateEquations
     from ...numeric import compile_plant
-    from .check import si_values
+    from .check import UnitError, si_values
 
+    if not isinstance(model, StateEquations):
+        hint = ("; a switched model has one plant per mode: pass the model of one mode, "
+                "model.mode(on=..., off=...)" if hasattr(model, "modes") or
+                hasattr(model, "mode") else "")
+        raise UnitError(f"plant_with_units: model must be a derived model (bondgraph.derive); "
+                        f"got {type(model).__name__}{hint}")
     dims = model_units(model, graph, values, domains=domains)
     plant = compile_plant(model).plant(si_values(values))
     signals = {*plant.state_names, *plant.input_names, *plant.output_names}
