@@ -174,23 +174,23 @@ def test_one_way_clutch_locks_when_the_driver_catches_up():
 
 # ---------------------------------------------------------------- refused, naming the culprit
 def test_zero_capacitance_is_refused_naming_the_element():
-    with pytest.raises(HybridError, match=r"C:C has C = 0"):
+    with pytest.raises(bg.BondGraphError, match=r"C:C\b.*\bC = 0"):
         simulate(rect_model(), (0, 1), values={"Vm": VM, "w": W, "R": R, "C": 0.0})
 
 
 def test_zero_inductance_is_refused_naming_the_element():
     sm = SwitchedModel(library.buck(), outputs={"v": bg.effort("C")})
     vals = {"Vin": 10, "duty": 0.5, "T": 1e-5, "L": 0, "C": 1e-4, "R": 5}
-    with pytest.raises(HybridError, match="I:L has L = 0"):
+    with pytest.raises(bg.BondGraphError, match=r"I:L\b.*\bL = 0"):
         simulate(sm, (0, 1e-4), values=vals)
     from bondgraph.codegen import generate_switched_c
-    with pytest.raises(bg.BondGraphError, match="I:L has L = 0"):
+    with pytest.raises(bg.BondGraphError, match=r"I:L\b.*\bL = 0"):
         generate_switched_c(sm, defaults=vals)
 
 
 def test_zero_inertia_of_a_clutch_is_refused():
     sm = SwitchedModel(library.clutch(), outputs={"w2": bg.flow("J2")})
-    with pytest.raises(HybridError, match="I:J2 has J2 = 0"):
+    with pytest.raises(bg.BondGraphError, match=r"I:J2\b.*\bJ2 = 0"):
         simulate(sm, (0, 1), values={"J1": 1, "J2": 0, "t_lock": 0.5}, inputs={"tau": 1})
 
 
