@@ -31,35 +31,80 @@ from ..tf import transfer_matrix as tf_transfer_matrix
 from ..tf import resolve_signal
 from ..tf.errors import TermBudgetError
 from .forms import derivative_orders, linear_form, point_values, refuse_implicit, residual
+from .offsets import (OperatingPointError, deviations, nominal_inputs,
+                      symbolic_operating_point, unify)
+from .point import OperatingPoint
 from .statespace import SymbolicStateSpace
 
 __all__ = ["state_space", "is_linear", "descriptor_form", "laplace_system", "derivative_form",
            "transfer_function", "transfer_matrix", "linearize"]
 
 
-def state_space(eqs: StateEquations) -> SymbolicStateSpace:
+def state_space(eqs: StateEquations, *, at=None) -> SymbolicStateSpace:
     """A, B, C, D of linear equations (sympy ImmutableMatrix), with names; cached.
+
+    A model with constant sources, or linear in its states but not in its
+    inputs, gives its form in deviations about the operating point (see
+    :func:`bondgraph.linear.offsets.deviations`; ``at`` chooses the point) and
+    says which in ``operating_point``.
 
     Raises
     ------
     NonlinearModelError
-        If an equation is not linear in states and inputs, has a constant
-        term, depends on time or on input derivatives.
+        If an equation is not linear in the states (without ``at``), depends
+        on time or on input derivatives.
     """
+    if at is not None:
+        dev, op = deviations(eqs, at)
+        return dataclasses.replace(_strict_state_space(dev), operating_point=op)
     if "state_space" not in eqs._cache:
-        x, u = eqs.states, eqs.inputs
-        A, B = linear_form(eqs.rhs, x, u, eqs, "state equation", "x'")
-        C, D = linear_form(eqs.output_exprs, x, u, eqs, "output", "y")
-        eqs._cache["state_space"] = SymbolicStateSpace(
-            A, B, C, D, eqs.state_names, eqs.input_names, eqs.output_names,
-            known_parameters=eqs.known_parameters)
+        try:
+            eqs._cache["state_space"] = _strict_state_space(eqs)
+        except NonlinearModelError as exc:
+            dev, op = _automatic(eqs, exc)
+            eqs._cache["state_space"] = dataclasses.replace(_strict_state_space(dev),
+                                                            operating_point=op)
     return eqs._cache["state_space"]
 
 
-def is_linear(eqs: StateEquations) -> bool:
-    """Whether ``rhs`` and outputs are linear in states and inputs."""
+def _strict_state_space(eqs: StateEquations) -> SymbolicStateSpace:
+    x, u = eqs.states, eqs.inputs
+    A, B = linear_form(eqs.rhs, x, u, eqs, "state equation", "x'")
+    C, D = linear_form(eqs.output_exprs, x, u, eqs, "output", "y")
+    return SymbolicStateSpace(A, B, C, D, eqs.state_names, eqs.input_names, eqs.output_names,
+                              known_parameters=eqs.known_parameters)
+
+
+def _automatic(eqs: StateEquations, exc: NonlinearModelError):
+    """The deviation record and point of a model whose state equations are linear in the
+    states at the nominal inputs (one equilibrium), else ``exc`` re-raised with a hint."""
+    if eqs.algebraic or eqs.input_derivatives or any(T_SYM in r.free_symbols
+                                                     for r in eqs.rhs + eqs.output_exprs):
+        raise exc
+    u0 = nominal_inputs(eqs)
+    at_u0 = [r.xreplace(u0) for r in eqs.rhs]
     try:
-        state_space(eqs)
+        M, b = sympy.linear_eq_to_matrix(at_u0, list(eqs.states))
+        affine = not (M.free_symbols | b.free_symbols) & set(eqs.states)
+    except (sympy.solvers.solveset.NonlinearError, ValueError):
+        affine = False
+    if not affine:
+        raise NonlinearModelError(
+            f"{exc}; or linearize about an operating point: give it with at={{input: value, "
+            "state: value, ...}} (states not given are solved) or take "
+            "model.linearize(model.equilibrium(values, inputs))") from None
+    try:
+        return deviations(eqs, u0)
+    except OperatingPointError as err:
+        raise NonlinearModelError(f"{exc}; about the operating point instead: {err}") from None
+
+
+def is_linear(eqs: StateEquations) -> bool:
+    """Whether ``rhs`` and outputs are linear in states and inputs (no constant term)."""
+    if "state_space" in eqs._cache:
+        return eqs._cache["state_space"].operating_point is None
+    try:
+        eqs._cache["state_space"] = _strict_state_space(eqs)
     except NonlinearModelError:
         return False
     return True
@@ -137,12 +182,25 @@ def _memory_named(eqs: StateEquations, states: int):
 
 
 def transfer_function(eqs: StateEquations, input=None, output=None, *,
-                      descriptor: bool | None = None, **options):
-    """Symbolic ``G(s)`` from one input to one output (see :meth:`bondgraph.Model.transfer_function`)."""
+                      descriptor: bool | None = None, at=None, **options):
+    """Symbolic ``G(s)`` from one input to one output (see :meth:`bondgraph.Model.transfer_function`).
+
+    A model with constant sources (or nonlinear in its inputs) gives ``G`` in
+    deviations about its operating point, held in ``G.operating_point``.
+    """
+    if at is not None:
+        dev, op = deviations(eqs, at)
+        return transfer_function(dev, input, output, descriptor=False,
+                                 **options)._with_metadata(operating_point=op)
     use_e = eqs.descriptor is not None if descriptor is None else descriptor
     s = options.pop("s", None) or sympy.Symbol("s")
     i = resolve_signal(output, eqs.output_names, "output")
-    A, B, C, D, E = laplace_system(eqs, use_e, s, [i])
+    try:
+        A, B, C, D, E = laplace_system(eqs, use_e, s, [i])
+    except NonlinearModelError as exc:
+        dev, op = _automatic(eqs, exc)
+        return transfer_function(dev, input, output, descriptor=False, s=s,
+                                 **options)._with_metadata(operating_point=op)
     with _memory_named(eqs, A.rows):
         G = tf_transfer_function(A, B, C, D, E=E, input=input, output=0,
                                  input_names=eqs.input_names,
@@ -154,10 +212,18 @@ def transfer_function(eqs: StateEquations, input=None, output=None, *,
     return G._with_metadata(known_parameters=eqs.known_parameters, value_checks=fields)
 
 
-def transfer_matrix(eqs: StateEquations, **options):
-    """All transfer functions over one denominator (see :meth:`bondgraph.Model.transfer_matrix`)."""
+def transfer_matrix(eqs: StateEquations, *, at=None, **options):
+    """All transfer functions over one denominator (see :meth:`bondgraph.Model.transfer_matrix`);
+    in deviations about the operating point for a model with constant sources."""
+    if at is not None:
+        dev, op = deviations(eqs, at)
+        return dataclasses.replace(transfer_matrix(dev, **options), operating_point=op)
     s = options.pop("s", None) or sympy.Symbol("s")
-    A, B, C, D, E = laplace_system(eqs, eqs.descriptor is not None, s)
+    try:
+        A, B, C, D, E = laplace_system(eqs, eqs.descriptor is not None, s)
+    except NonlinearModelError as exc:
+        dev, op = _automatic(eqs, exc)
+        return dataclasses.replace(transfer_matrix(dev, s=s, **options), operating_point=op)
     with _memory_named(eqs, A.rows):
         G = tf_transfer_matrix(A, B, C, D, E=E, input_names=eqs.input_names,
                                output_names=eqs.output_names, s=s, **options)
@@ -193,10 +259,20 @@ def _descriptor_form(eqs: StateEquations) -> SymbolicStateSpace:
 
 def linearize(eqs: StateEquations, x0=None, u0=None, *, equilibrium: bool = True,
               tol: float = 1e-9) -> SymbolicStateSpace:
-    """Symbolic Jacobians about ``(x0, u0)`` (see :meth:`bondgraph.Model.linearize`)."""
+    """Symbolic Jacobians about ``(x0, u0)`` (see :meth:`bondgraph.Model.linearize`).
+
+    Without ``x0`` the states are the equilibrium at ``u0`` solved exactly
+    (:func:`bondgraph.linear.offsets.symbolic_operating_point`; inputs not in
+    ``u0`` are the symbols ``<input>0``).  The result's ``operating_point``
+    holds ``x0``, ``u0`` and ``y0``.
+    """
     refuse_implicit(eqs, "symbolic linearization")
     x, u = eqs.states, eqs.inputs
+    if x0 is None:
+        op = symbolic_operating_point(eqs, u0)
+        x0, u0 = dict(op.states), dict(op.inputs)
     point = {**point_values(eqs, x0, x, "state"), **point_values(eqs, u0, u, "input")}
+    point = {k: unify(v, eqs) for k, v in point.items()}
     bad = set(eqs.input_derivatives) | {T_SYM}
     for ex in eqs.rhs + tuple(o.xreplace(dict.fromkeys(eqs.input_derivatives, 0))
                               for o in eqs.output_exprs):
@@ -229,7 +305,12 @@ def linearize(eqs: StateEquations, x0=None, u0=None, *, equilibrium: bool = True
     def jac(exprs, wrt):
         return sympy.ImmutableMatrix(len(exprs), len(wrt), lambda i, j: sympy.simplify(
             d(exprs[i], wrt[j]).xreplace(point)))
+    y0 = {n: sympy.simplify(y.xreplace(point)) for n, y in zip(eqs.output_names, eqs.output_exprs)}
+    op = OperatingPoint({s_.name: point[s_] for s_ in x}, {v.name: point[v] for v in u}, y0,
+                        how="given" if equilibrium else "given (not checked as an "
+                        "equilibrium)")
     return SymbolicStateSpace(jac(eqs.rhs, x), jac(eqs.rhs, u), jac(eqs.output_exprs, x),
                               jac(eqs.output_exprs, u), eqs.state_names, eqs.input_names,
                               eqs.output_names, known_parameters=eqs.known_parameters,
-                              D_derivatives=output_derivative_feedthrough(eqs, jac))
+                              D_derivatives=output_derivative_feedthrough(eqs, jac),
+                              operating_point=op)

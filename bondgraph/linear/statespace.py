@@ -15,6 +15,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import sympy
 
@@ -92,6 +93,9 @@ class SymbolicStateSpace(SignalCounts):
     #: feedthrough of input derivatives, ``y = C x + D u + D_derivatives[0] u' + ...``
     #: (outputs that need them: a linearization keeps them here); empty otherwise
     D_derivatives: tuple[sympy.ImmutableMatrix, ...] = ()
+    #: the operating point the form was taken about (deviations ``x - x0``, ``u - u0``,
+    #: ``y - y0``): set for a model with constant sources or a linearization, else None
+    operating_point: Any = field(default=None, compare=False, repr=False)
 
     def __post_init__(self) -> None:
         for label in "ABCD":
@@ -140,7 +144,10 @@ class SymbolicStateSpace(SignalCounts):
         return SymbolicStateSpace(f(self.A), f(self.B), f(self.C), f(self.D),
                                   self.state_names, self.input_names, self.output_names, f(self.E),
                                   known_parameters=self.known_parameters,
-                                  D_derivatives=tuple(f(M) for M in self.D_derivatives))
+                                  D_derivatives=tuple(f(M) for M in self.D_derivatives),
+                                  operating_point=(None if self.operating_point is None else
+                                                   self.operating_point.subs(
+                                                       {p.name: v for p, v in given.items()})))
 
     def to_latex(self) -> str:
         r"""Matrix form ``E x' = A x + B u``, ``y = C x + D u`` in LaTeX.

@@ -1,0 +1,472 @@
+"""Linear forms about the operating point: constant sources and inputs that enter nonlinearly.
+
+A constant source (``Se("gravity", value=m*g)``, an ambient temperature, a
+bias voltage) puts a constant term ``c`` in ``x' = A x + B u + c``; a duty
+cycle times a source voltage (an averaged converter) makes ``f`` nonlinear in
+the inputs.  Such a model has no linear form in its own variables, but it has
+one in deviations ``dx = x - x0``, ``du = u - u0``, ``dy = y - y0`` about an
+equilibrium ``f(x0, u0) = 0``.  This module finds that point and the linear
+record in deviations that :func:`bondgraph.linear.state_space`,
+:func:`~bondgraph.linear.transfer_function` and the numeric plants use.
+
+* :func:`nominal_inputs` -- ``u0``: the values given, and for the others a
+  symbol ``<input>0`` (``F0``, ``d0``, ``Vg0``): a symbolic operating point
+  holds for every value of the nominal inputs;
+* :func:`symbolic_operating_point` -- ``x0`` solved exactly: a linear solve
+  when ``f`` is linear in the states at ``u0`` (constant sources, averaged
+  converters), sympy's solver for small polynomial systems otherwise, with
+  the totals of conserved quantities (``totals=``) replacing the equations
+  they make dependent;
+* :func:`deviations` -- the record in deviation variables and the point.
+
+Examples
+--------
+A mass ``m`` on a spring ``k`` and a damper ``b``, pushed by ``F`` and
+loaded by its weight ``W`` (``W`` acts along ``F``, so the spring settles
+at ``x0 = (F0 + W)/k`` in the direction of both):
+
+>>> import sympy, bondgraph as bg
+>>> g = bg.BondGraph("msd")
+>>> v = bg.One("v")
+>>> W = sympy.Symbol("W", positive=True)
+>>> g.add(bg.Se("F"), bg.Se("weight", value=W), v, bg.I("m"), bg.R("b"), bg.C("k", stiffness="k"))
+>>> for t, h in [("F", v), ("weight", v), (v, "m"), (v, "b"), (v, "k")]: _ = g.connect(t, h)
+>>> model = bg.derive(g, outputs={"x": bg.displacement("k")})
+>>> dev, op = deviations(model)
+>>> dev.rhs
+(F - b*p_m/m - k*q_k, p_m/m)
+>>> dict(op.states), dict(op.inputs)
+({'p_m': 0, 'q_k': (F0 + W)/k}, {'F': F0})
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import TYPE_CHECKING, Any, Mapping, Optional
+
+import sympy
+
+from ..errors import NonlinearModelError
+from ..signals import t as T_SYM
+from .._support.sympify import as_expr
+from .point import OperatingPoint
+
+if TYPE_CHECKING:
+    from ..equations import StateEquations
+
+__all__ = ["OperatingPointError", "nominal_inputs", "symbolic_operating_point", "deviations",
+           "has_offsets", "totals_equations", "numeric_operating_point", "SYMBOLIC_MAX_STATES"]
+
+#: largest number of states whose operating point is solved symbolically (an exact linear
+#: solve grows like n^3 in expression size); larger models give their point numerically
+SYMBOLIC_MAX_STATES = 12
+
+
+class OperatingPointError(NonlinearModelError):
+    """No operating point to linearize about: none, several, or not solvable symbolically."""
+
+
+def _where(eqs: "StateEquations") -> str:
+    return f"model {eqs.name!r}: "
+
+
+def _named_symbols(eqs: "StateEquations") -> dict[str, sympy.Symbol]:
+    out = {p.name: p for p in eqs.parameters}
+    out.update({s.name: s for s in eqs.states + eqs.inputs})
+    return out
+
+
+def unify(expr: sympy.Expr, eqs: "StateEquations") -> sympy.Expr:
+    """``expr`` with every symbol named like a symbol of the model replaced by the model's
+    one: ``Symbol('C')`` typed by a user is the model's ``C`` (positive), so
+    ``-C + C`` cancels."""
+    known = _named_symbols(eqs)
+    swap = {s: known[s.name] for s in expr.free_symbols
+            if s.name in known and s != known[s.name]}
+    return expr.xreplace(swap) if swap else expr
+
+
+def has_offsets(eqs: "StateEquations") -> bool:
+    """Whether a state equation or an output has a term free of states and inputs
+    (``f(0, 0) != 0``: a constant source)."""
+    zero = {s: sympy.S.Zero for s in eqs.states + eqs.inputs + eqs.input_derivatives}
+    for ex in eqs.rhs + eqs.output_exprs:
+        try:
+            at = ex.xreplace(zero)
+        except (TypeError, ZeroDivisionError):      # pragma: no cover - defensive
+            return True
+        if at != 0 and not at.has(sympy.zoo, sympy.nan):
+            return True
+    return False
+
+
+def nominal_inputs(eqs: "StateEquations", given: Optional[Mapping] = None) -> dict:
+    """``u0``: the values ``given`` (by input name or symbol), a symbol ``<name>0`` for the rest.
+
+    The symbol keeps the input's assumptions; a name taken by a parameter, state
+    or input gets an underscore (``F_0``) instead.
+
+    Examples
+    --------
+    >>> from bondgraph import examples
+    >>> from bondgraph.equations import derive_equations
+    >>> nominal_inputs(derive_equations(examples.rc()))
+    {V: V0}
+    """
+    if given is not None and not isinstance(given, Mapping):
+        raise OperatingPointError(f"{_where(eqs)}the operating point's inputs: expected a mapping "
+                                  f"of input names to values, got {type(given).__name__}")
+    by_name = {u.name: u for u in eqs.inputs}
+    out: dict = {}
+    for key, value in dict(given or {}).items():
+        name = key.name if isinstance(key, sympy.Symbol) else key
+        if name not in by_name:
+            raise OperatingPointError(
+                f"{_where(eqs)}the operating point names the input {name!r}, which is not one "
+                f"of {', '.join(by_name) or '(none)'}")
+        out[by_name[name]] = unify(as_expr(value, what=f"input {name!r} of the operating point",
+                                           error=OperatingPointError), eqs)
+    taken = set(_named_symbols(eqs)) | set(eqs.known_parameters)
+    for u in eqs.inputs:
+        if u in out:
+            continue
+        name = f"{u.name}0"
+        while name in taken:
+            name = name[:-1] + "_0"
+        taken.add(name)
+        out[u] = sympy.Symbol(name, **u.assumptions0)
+    return out
+
+
+# ------------------------------------------------------------------ totals
+def _law(key: Any, eqs: "StateEquations") -> sympy.Matrix:
+    """The row ``l`` of a total's key: a state name, a tuple of state names (their sum),
+    or a sympy expression linear in the states (matched by name)."""
+    by_name = {s.name: s for s in eqs.states}
+    if isinstance(key, str):
+        key = (key,)
+    if isinstance(key, (tuple, list, frozenset)):
+        missing = [k for k in key if not isinstance(k, str) or k not in by_name]
+        if missing or not key:
+            raise OperatingPointError(
+                f"{_where(eqs)}totals: {missing or key!r} names no state; a total's key is a "
+                f"state name, a tuple of them or an expression linear in the states "
+                f"({', '.join(by_name)})")
+        expr = sympy.Add(*[by_name[k] for k in key])
+    elif isinstance(key, sympy.Expr):
+        expr = key.xreplace({s: by_name[s.name] for s in key.free_symbols if s.name in by_name})
+    else:
+        raise OperatingPointError(f"{_where(eqs)}totals: a key must be a state name, a tuple of "
+                                  f"state names or a sympy expression; got {key!r}")
+    row = sympy.Matrix([[sympy.diff(expr, x) for x in eqs.states]])
+    if row.free_symbols & set(eqs.states) or expr.free_symbols & (set(eqs.inputs) | {T_SYM}) \
+            or sympy.expand(expr - (row * sympy.Matrix(eqs.states))[0]) != 0 or row.is_zero_matrix:
+        raise OperatingPointError(f"{_where(eqs)}totals: {key} is not a linear combination of the "
+                                  "states without a constant")
+    return row
+
+
+def totals_equations(eqs: "StateEquations", exprs: list, totals: Optional[Mapping],
+                     u0: Optional[Mapping] = None) -> tuple[list, list[int]]:
+    """``exprs`` (``f``) with the equations that conserved totals make dependent replaced by
+    ``l . x - total``; also the indices replaced.
+
+    Each key's combination ``l . x`` must be conserved (``l . f`` is identically 0 at
+    the inputs ``u0``).  With ``k`` totals, the equations of the rows' pivots (reduced
+    row echelon form) are replaced: ``l . f = 0`` makes each of them a combination
+    of the others.
+
+    Examples
+    --------
+    Two capacitors exchanging charge through a resistor: ``q1 + q2`` is conserved.
+
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("float")
+    >>> g.add(bg.Zero("a"), bg.Zero("b"), bg.One("i"), bg.C("C1"), bg.C("C2"), bg.R("R"))
+    >>> for t, h in [("a", "C1"), ("a", "i"), ("i", "R"), ("i", "b"), ("b", "C2")]:
+    ...     _ = g.connect(t, h)
+    >>> eqs = bg.derive(g)
+    >>> Q = sympy.Symbol("Q")
+    >>> totals_equations(eqs, list(eqs.rhs), {("q_C1", "q_C2"): Q})
+    ([-Q + q_C1 + q_C2, (-q_C2/C2 + q_C1/C1)/R], [0])
+    """
+    if not totals:
+        return list(exprs), []
+    if not isinstance(totals, Mapping):
+        raise OperatingPointError(f"{_where(eqs)}totals: expected a mapping of a state name (or "
+                                  f"a tuple of them) to the total, got {type(totals).__name__}")
+    rows, values = [], []
+    for key, value in totals.items():
+        row = _law(key, eqs)
+        drift = sympy.expand(sum((row[j] * e for j, e in enumerate(eqs.rhs)), sympy.S.Zero)
+                             .xreplace(dict(u0 or {})))
+        if drift != 0 and sympy.simplify(drift) != 0:
+            raise OperatingPointError(
+                f"{_where(eqs)}totals: {key} is not conserved: its rate is {sympy.simplify(drift)}"
+                "; a total fixes a quantity the model keeps constant (a moiety, a floating "
+                "charge)")
+        rows.append(row)
+        values.append(unify(as_expr(value, what=f"the total of {key}", error=OperatingPointError),
+                            eqs))
+    L = sympy.Matrix.vstack(*rows)
+    pivots = L.rref()[1]
+    if len(pivots) < L.rows:
+        raise OperatingPointError(f"{_where(eqs)}totals: the {L.rows} totals are not independent "
+                                  "(one is a combination of the others)")
+    out = list(exprs)
+    x = sympy.Matrix(eqs.states)
+    for k, i in enumerate(pivots):
+        out[i] = (L.row(k) * x)[0] - values[k]
+    return out, list(pivots)
+
+
+# ------------------------------------------------------------------ the point
+def _refuse_time(eqs: "StateEquations") -> None:
+    for ex in eqs.rhs:
+        if T_SYM in ex.free_symbols:
+            raise OperatingPointError(f"{_where(eqs)}the state equations depend on time; a "
+                                      "linear form about an equilibrium needs a time-invariant "
+                                      "model")
+
+
+def symbolic_operating_point(eqs: "StateEquations", inputs: Optional[Mapping] = None, *,
+                             states: Optional[Mapping] = None,
+                             totals: Optional[Mapping] = None) -> OperatingPoint:
+    """The equilibrium ``f(x0, u0) = 0`` solved exactly, with ``y0 = g(x0, u0)``.
+
+    Parameters
+    ----------
+    eqs : StateEquations
+    inputs : mapping of input name to value, optional
+        ``u0``; inputs not given are symbols ``<name>0`` (:func:`nominal_inputs`).
+    states : mapping of state name to value, optional
+        States given rather than solved (all of them: the point is then only checked
+        by the callers that need an equilibrium).
+    totals : mapping, optional
+        Totals of conserved quantities (a key is a state name, a tuple of state
+        names summed, or an expression linear in the states): ``{("q_E", "q_C"): E_T}``.
+
+    Raises
+    ------
+    OperatingPointError
+        No isolated equilibrium (a singular linear system: the message says
+        whether totals are missing), several, or equations sympy cannot
+        solve (use :meth:`bondgraph.Model.equilibrium` with numbers).
+
+    Examples
+    --------
+    A capacitor ``C`` charged through ``R`` from ``V``: ``q0 = C V0``.
+
+    >>> from bondgraph import examples
+    >>> from bondgraph.equations import derive_equations
+    >>> op = symbolic_operating_point(derive_equations(examples.rc()))
+    >>> dict(op.states), dict(op.inputs)
+    ({'q_C': C*V0}, {'V': V0})
+    """
+    where = _where(eqs)
+    if eqs.algebraic:
+        raise OperatingPointError(
+            f"{where}the model is implicit (algebraic unknowns "
+            f"{', '.join(eqs.algebraic_names)}); its operating point is numeric: "
+            "model.equilibrium(values, inputs)")
+    _refuse_time(eqs)
+    u0 = nominal_inputs(eqs, inputs)
+    at = {**u0, **dict.fromkeys(eqs.input_derivatives, sympy.S.Zero)}
+    how = ""
+    if states is not None:
+        from .forms import point_values
+        x0 = {s: unify(v, eqs) for s, v in point_values(eqs, states, eqs.states, "state").items()}
+        how = "the states given"
+    else:
+        exprs, replaced = totals_equations(eqs, [r.xreplace(at) for r in eqs.rhs], totals, at)
+        x0 = _solve(eqs, exprs, bool(replaced))
+        how = ("exact: " + ("the linear equations f(x0, u0) = 0" if x0.pop(None, True)
+                            else "sympy.solve, the one solution")
+               + (f" with {len(replaced)} conserved total{'s' * (len(replaced) > 1)}"
+                  if replaced else ""))
+    point = {**x0, **at}
+    y0 = [_tidy(y.xreplace(point)) for y in eqs.output_exprs]
+    return OperatingPoint({s.name: x0[s] for s in eqs.states},
+                          {u.name: v for u, v in u0.items()},
+                          dict(zip(eqs.output_names, y0)), how=how)
+
+
+def _tidy(e: sympy.Expr) -> sympy.Expr:
+    e = sympy.cancel(sympy.together(e))
+    f = sympy.factor(e)
+    return f if sympy.count_ops(f) <= sympy.count_ops(e) else e
+
+
+def _solve(eqs: "StateEquations", exprs: list, with_totals: bool) -> dict:
+    """``{state: x0}`` with ``exprs = 0``; the key ``None`` says whether it was linear."""
+    where, x = _where(eqs), list(eqs.states)
+    if len(x) > SYMBOLIC_MAX_STATES:
+        raise OperatingPointError(
+            f"{where}{len(x)} states: the symbolic operating point is not solved above "
+            f"{SYMBOLIC_MAX_STATES} states (its expressions grow like n^3); give parameter "
+            "values for a numeric one (model.operating_point(inputs, values=...))")
+    if not x:
+        return {None: True}
+    try:
+        M, b = sympy.linear_eq_to_matrix(exprs, x)
+        linear = not (M.free_symbols | b.free_symbols) & set(x)
+    except (sympy.solvers.solveset.NonlinearError, ValueError):
+        linear = False
+    if linear:
+        M = M.applyfunc(sympy.cancel)
+        if M.rank(simplify=True) < len(x):
+            raise OperatingPointError(_singular_text(eqs, M, with_totals))
+        sol = M.LUsolve(b)
+        out: dict = {s: _tidy(v) for s, v in zip(x, sol)}
+        out[None] = True
+        return out
+    from .trim import exact_budget
+
+    nums = [sympy.together(e).as_numer_denom()[0] for e in exprs]
+    if not all(n.is_polynomial(*x) for n in nums) or not exact_budget(nums, x):
+        raise OperatingPointError(
+            f"{where}the equilibrium equations are not polynomial in the states (or too large "
+            "for sympy's exact solver); give the states of the point (at={state: value, ...}) "
+            "or parameter values for a numeric search (model.equilibrium(values, inputs))")
+    try:
+        sols = sympy.solve(nums, x, dict=True)
+    except (NotImplementedError, ValueError, TypeError):
+        sols = None
+    if not sols:
+        raise OperatingPointError(f"{where}sympy finds no equilibrium; give parameter values "
+                                  "for a numeric search (model.equilibrium(values, inputs))")
+    full = [s for s in sols if set(s) == set(x)]
+    if len(full) != 1:
+        listed = "; ".join(", ".join(f"{k} = {v}" for k, v in s.items()) for s in sols[:4])
+        raise OperatingPointError(
+            f"{where}{len(sols)} equilibria ({listed}{'; ...' if len(sols) > 4 else ''}); "
+            "choose one: give its states (at={state: value, ...}) or use "
+            "model.equilibrium(values, inputs, guess=...)")
+    out = {s: _tidy(v) for s, v in full[0].items()}
+    out[None] = False
+    return out
+
+
+def _singular_text(eqs: "StateEquations", M: sympy.Matrix, with_totals: bool) -> str:
+    loose = []
+    for vec in M.nullspace(simplify=True):
+        loose += [s.name for s, c in zip(eqs.states, vec) if c != 0 and s.name not in loose]
+    hint = ("" if with_totals else
+            "; a conserved quantity (a chemical moiety, a floating charge) leaves its total "
+            "free: give it with totals={('q_a', 'q_b'): value}; a state no equation holds "
+            "(a free mass's position) has no equilibrium to linearize about")
+    return (f"{_where(eqs)}the equilibrium is not isolated: f(x0, u0) = 0 does not determine "
+            f"{', '.join(loose) or 'every state'} (the Jacobian df/dx is singular){hint}")
+
+
+# ------------------------------------------------------------------ the deviation record
+def deviations(eqs: "StateEquations", at: Any = None) -> tuple["StateEquations", OperatingPoint]:
+    """The record in deviation variables about an operating point, and the point.
+
+    Parameters
+    ----------
+    eqs : StateEquations
+    at : OperatingPoint, mapping or None
+        The point: an :class:`OperatingPoint`; a mapping of input values and,
+        optionally, state values (``{"d": d0, "Vg": Vg0}``; states not given are
+        solved, see :func:`symbolic_operating_point`); None for the symbolic point
+        at the nominal inputs ``<input>0``.
+
+    Returns
+    -------
+    (StateEquations, OperatingPoint)
+        A record with the same names whose ``rhs`` and outputs are linear:
+        ``A dx + B du`` with ``A = df/dx`` and ``B = df/du`` at the point (its
+        symbols stand for the deviations).
+
+    Raises
+    ------
+    OperatingPointError
+        See :func:`symbolic_operating_point`; also a given point that is not an
+        equilibrium.
+    """
+    from .forms import linear_form, residual
+
+    if isinstance(at, OperatingPoint):
+        op = at
+    elif hasattr(at, "states") and hasattr(at, "values") and hasattr(at, "stability"):
+        raise OperatingPointError(
+            f"{_where(eqs)}a numeric Equilibrium holds parameter values: take the plant there "
+            "with model.linearize(eq) (numeric), or give the symbolic point as a mapping")
+    else:
+        if at is not None and not isinstance(at, Mapping):
+            raise OperatingPointError(
+                f"{_where(eqs)}at: expected an OperatingPoint or a mapping of input (and state) "
+                f"names to values, got {type(at).__name__}")
+        given = dict(at or {})
+        names = {s.name for s in eqs.states}
+        keyname = (lambda k: k.name if isinstance(k, sympy.Symbol) else k)   # noqa: E731
+        xs = {k: v for k, v in given.items() if keyname(k) in names}
+        us = {k: v for k, v in given.items() if keyname(k) not in names}
+        op = symbolic_operating_point(eqs, us, states=xs or None)
+    by_name = {s.name: s for s in eqs.states + eqs.inputs}
+    point = {by_name[k]: sympy.sympify(v) for k, v in {**op.states, **op.inputs}.items()
+             if k in by_name}
+    point.update(dict.fromkeys(eqs.input_derivatives, sympy.S.Zero))
+    for s, r in zip(eqs.states, eqs.rhs):
+        val = residual(r, point, 1e-9)
+        if val is not None:
+            raise OperatingPointError(
+                f"{_where(eqs)}the operating point is not an equilibrium: d{s.name}/dt = {val} "
+                "there")
+    affine = True
+    try:
+        A, B, _c = linear_form(eqs.rhs, eqs.states, eqs.inputs, eqs, "state equation", "x'",
+                               offsets=True)
+        C, D, _d = linear_form(eqs.output_exprs, eqs.states, eqs.inputs, eqs, "output", "y",
+                               offsets=True)
+    except NonlinearModelError:
+        affine = False
+    if not affine:
+        from .model_forms import linearize
+        lin = linearize(eqs, {s.name: point[s] for s in eqs.states},
+                        {u.name: point[u] for u in eqs.inputs}, equilibrium=False)
+        A, B, C, D = lin.A, lin.B, lin.C, lin.D
+    x, u = sympy.Matrix(eqs.states), sympy.Matrix(eqs.inputs)
+
+    def lin_rows(M, N):
+        return tuple(sympy.expand(e) if not affine else e for e in (M * x + N * u))
+    dev = dataclasses.replace(eqs, rhs=lin_rows(A, B), output_exprs=lin_rows(C, D),
+                              input_derivatives=(), descriptor=None)
+    return dev, op
+
+
+def numeric_operating_point(eqs: "StateEquations", eq: Any, units: Optional[Mapping] = None
+                            ) -> OperatingPoint:
+    """The :class:`OperatingPoint` of a numeric :class:`~bondgraph.linear.Equilibrium`:
+    its ``x0`` and ``u0`` and the outputs there (``y0``), as floats.
+
+    Examples
+    --------
+    >>> from bondgraph import examples
+    >>> from bondgraph.equations import derive_equations
+    >>> from bondgraph.linear import equilibrium
+    >>> import bondgraph as bg
+    >>> eqs = derive_equations(examples.rc(), {"vC": bg.effort("C")})
+    >>> op = numeric_operating_point(eqs, equilibrium(eqs, {"R": 1.0, "C": 2.0}, {"V": 3.0}))
+    >>> dict(op.states), dict(op.outputs)
+    ({'q_C': 6.0}, {'vC': 3.0})
+    """
+    by_name = {p.name: p for p in eqs.parameters}
+    at = {by_name[k]: sympy.Float(v, 17) for k, v in eq.values.items() if k in by_name}
+    at.update({s: sympy.Float(eq.states[s.name], 17) for s in eqs.states})
+    at.update({u: sympy.Float(eq.inputs.get(u.name, 0.0), 17) for u in eqs.inputs})
+    at.update({z: sympy.Float(eq.algebraic[z.name], 17) for z in eqs.algebraic
+               if z.name in eq.algebraic})
+    at.update(dict.fromkeys(eqs.input_derivatives, sympy.S.Zero))
+    y0 = {}
+    for n, y in zip(eqs.output_names, eqs.output_exprs):
+        try:
+            y0[n] = float(y.xreplace(at))
+        except TypeError:
+            raise OperatingPointError(f"{_where(eqs)}output {n} is not a number at the operating "
+                                      f"point ({y.xreplace(at)})") from None
+    return OperatingPoint(dict(eq.states), {u.name: float(eq.inputs.get(u.name, 0.0))
+                                            for u in eqs.inputs}, y0,
+                          {k: v for k, v in dict(units or {}).items()},
+                          how=f"{eq.method}: {eq.how}" if eq.how else eq.method, equilibrium=eq)
