@@ -22,6 +22,7 @@ import contextlib
 import dataclasses
 
 import sympy
+from sympy.solvers.solveset import NonlinearError
 
 from ..equations import StateEquations
 from ..errors import NonlinearModelError
@@ -86,7 +87,7 @@ def _automatic(eqs: StateEquations, exc: NonlinearModelError):
     try:
         M, b = sympy.linear_eq_to_matrix(at_u0, list(eqs.states))
         affine = not (M.free_symbols | b.free_symbols) & set(eqs.states)
-    except (sympy.solvers.solveset.NonlinearError, ValueError):
+    except (NonlinearError, ValueError):
         affine = False
     if not affine:
         raise NonlinearModelError(
@@ -152,6 +153,8 @@ def derivative_form(eqs: StateEquations):
     x, u, ud = eqs.states, eqs.inputs, eqs.input_derivatives
     if not ud:
         ss = state_space(eqs)
+        if ss.operating_point is not None:      # in deviations: not the model's own form
+            ss = _strict_state_space(eqs)        # raises, naming the constant term
         return ss.A, (ss.B,), ss.C, (ss.D,)
     orders = derivative_orders(eqs)
     A, B, B1 = linear_form(eqs.rhs, x, u, eqs, "state equation", "x'", ud)

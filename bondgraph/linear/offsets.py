@@ -45,6 +45,7 @@ import dataclasses
 from typing import TYPE_CHECKING, Any, Mapping, Optional
 
 import sympy
+from sympy.solvers.solveset import NonlinearError
 
 from ..errors import NonlinearModelError
 from ..signals import t as T_SYM
@@ -310,7 +311,7 @@ def _solve(eqs: "StateEquations", exprs: list, with_totals: bool) -> dict:
     try:
         M, b = sympy.linear_eq_to_matrix(exprs, x)
         linear = not (M.free_symbols | b.free_symbols) & set(x)
-    except (sympy.solvers.solveset.NonlinearError, ValueError):
+    except (NonlinearError, ValueError):
         linear = False
     if linear:
         M = M.applyfunc(sympy.cancel)
