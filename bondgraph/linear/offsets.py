@@ -428,7 +428,8 @@ def deviations(eqs: "StateEquations", at: Any = None) -> tuple["StateEquations",
         lin = linearize(eqs, {s.name: point[s] for s in eqs.states},
                         {u.name: point[u] for u in eqs.inputs}, equilibrium=False)
         A, B, C, D = lin.A, lin.B, lin.C, lin.D
-    x, u = sympy.Matrix(eqs.states), sympy.Matrix(eqs.inputs)
+    x = sympy.Matrix(len(eqs.states), 1, list(eqs.states))
+    u = sympy.Matrix(len(eqs.inputs), 1, list(eqs.inputs))
 
     def lin_rows(M, N):
         return tuple(sympy.expand(e) if not affine else e for e in (M * x + N * u))
