@@ -56,7 +56,8 @@ if TYPE_CHECKING:
     from ..equations import StateEquations
 
 __all__ = ["OperatingPointError", "nominal_inputs", "symbolic_operating_point", "deviations",
-           "has_offsets", "totals_equations", "numeric_operating_point", "SYMBOLIC_MAX_STATES"]
+           "has_offsets", "totals_equations", "numeric_operating_point", "conserved_combinations",
+           "conservation_hint", "SYMBOLIC_MAX_STATES"]
 
 #: largest number of states whose operating point is solved symbolically (an exact linear
 #: solve grows like n^3 in expression size); larger models give their point numerically
@@ -348,14 +349,69 @@ def _solve(eqs: "StateEquations", exprs: list, with_totals: bool) -> dict:
     return out
 
 
+def conserved_combinations(eqs: "StateEquations") -> list[sympy.Expr]:
+    """Combinations ``l . x`` of the states with ``l . f = 0`` identically (for every state,
+    input and parameter value): chemical moieties, a floating charge.
+
+    ``f`` is written ``M m(x, u)`` over its distinct state- and input-dependent factors
+    ``m`` (a constant term is one more); the laws are the left null space of ``M``.
+
+    Examples
+    --------
+    >>> import bondgraph as bg
+    >>> g = bg.BondGraph("float")
+    >>> g.add(bg.Zero("a"), bg.Zero("b"), bg.One("i"), bg.C("C1"), bg.C("C2"), bg.R("R"))
+    >>> for t, h in [("a", "C1"), ("a", "i"), ("i", "R"), ("i", "b"), ("b", "C2")]:
+    ...     _ = g.connect(t, h)
+    >>> conserved_combinations(bg.derive(g))
+    [q_C1 + q_C2]
+    """
+    variables = tuple(eqs.states) + tuple(eqs.inputs) + tuple(eqs.input_derivatives)
+    columns: dict = {}
+    entries: dict = {}
+    for i, f in enumerate(eqs.rhs):
+        for term in sympy.Add.make_args(sympy.expand(f)):
+            coeff, dep = term.as_independent(*variables, as_Add=False)
+            j = columns.setdefault(dep, len(columns))
+            entries[(i, j)] = entries.get((i, j), 0) + coeff
+    if not columns:
+        return [s for s in eqs.states]
+    M = sympy.Matrix(len(eqs.rhs), len(columns), lambda i, j: entries.get((i, j), 0))
+    laws = []
+    for vec in M.T.nullspace(simplify=True):
+        scale = sympy.lcm([sympy.fraction(sympy.nsimplify(c))[1] for c in vec]) \
+            if all(c.is_Rational for c in vec) else 1
+        laws.append(sympy.Add(*[sympy.simplify(c * scale) * x for c, x in zip(vec, eqs.states)]))
+    return laws
+
+
+def conservation_hint(eqs: "StateEquations") -> str:
+    """The totals to give when conserved quantities leave an equilibrium free, or ''."""
+    try:
+        laws = conserved_combinations(eqs) if len(eqs.states) <= 3 * SYMBOLIC_MAX_STATES else []
+    except Exception:       # noqa: BLE001 -- a hint only: never hide the real error
+        laws = []
+    if not laws:
+        return ""
+    def key(law):
+        terms = sympy.Add.make_args(law)
+        if all(t.is_Symbol for t in terms):
+            return repr(tuple(sorted(t.name for t in terms)))
+        return str(law)
+    example = ", ".join(f"{key(law)}: ..." for law in laws)
+    return (f"; conserved: {', '.join(map(str, laws))}, whose total"
+            f"{'s' if len(laws) > 1 else ''} the equilibrium needs: totals={{{example}}} "
+            "(a key is a state name, a tuple of state names summed, or a sympy expression)")
+
+
 def _singular_text(eqs: "StateEquations", M: sympy.Matrix, with_totals: bool) -> str:
     loose = []
     for vec in M.nullspace(simplify=True):
         loose += [s.name for s, c in zip(eqs.states, vec) if c != 0 and s.name not in loose]
-    hint = ("" if with_totals else
-            "; a conserved quantity (a chemical moiety, a floating charge) leaves its total "
-            "free: give it with totals={('q_a', 'q_b'): value}; a state no equation holds "
-            "(a free mass's position) has no equilibrium to linearize about")
+    hint = conservation_hint(eqs) if not with_totals else ""
+    if not hint and not with_totals:
+        hint = ("; a state no equation holds (a free mass's position) has no equilibrium to "
+                "linearize about")
     return (f"{_where(eqs)}the equilibrium is not isolated: f(x0, u0) = 0 does not determine "
             f"{', '.join(loose) or 'every state'} (the Jacobian df/dx is singular){hint}")
 

@@ -276,7 +276,8 @@ def equilibrium(model: "Model", values: ParameterValues, inputs: Optional[Mappin
             f"f|f| at f = 0): the Jacobian of the state equations is "
             f"singular there (condition number {found.condition:.3g} after scaling), so "
             f"{', '.join(loose)} are not determined to first order; hold states that can "
-            "take any value with fixed={...}")
+            "take any value with fixed={...}"
+            + ("" if totals else _conservation_hint(model)))
     if true_system is None:
         eig, verdict = _trim.stability(system, found.x)
     else:
@@ -290,6 +291,11 @@ def equilibrium(model: "Model", values: ParameterValues, inputs: Optional[Mappin
                        how=how, scaled_residual=found.scaled_residual,
                        condition=found.condition, jacobian=jac_kind,
                        eigenvalues=eig, stability=verdict)
+
+
+def _conservation_hint(model) -> str:
+    from .offsets import conservation_hint
+    return conservation_hint(model)
 
 
 def _conserved_stability(system, x, k: int) -> tuple:
