@@ -132,3 +132,12 @@ def test_nonlinear_in_the_states_needs_a_point():
     x0 = -sympy.cbrt(W / k)
     G = model.transfer_function("F", "x", at={"F": 0, "q_k": x0, "p_m": 0})
     assert same(G.expr, 1 / (m * s**2 + b * s + 3 * k * x0**2))
+
+
+def test_structural_analysis_takes_the_deviation_form():
+    # [B, A B] = [[1, -b/m], [0, 1/m]] and [C; C A] = [[0, 1], [1/m, 0]]: both rank 2
+    from bondgraph import structure
+
+    model = hanging()
+    assert structure.controllability(model).kalman_rank == 2
+    assert structure.observability(model).kalman_rank == 2
