@@ -61,11 +61,17 @@ __all__ = ["OperatingPointError", "nominal_inputs", "symbolic_operating_point", 
 
 #: largest number of states whose operating point is solved symbolically (an exact linear
 #: solve grows like n^3 in expression size); larger models give their point numerically
-SYMBOLIC_MAX_STATES = 12
+SYMBOLIC_MAX_STATES = 40
+#: largest expression (node count; at most 10 symbols) cancelled and factored for display
+TIDY_MAX_OPS = 80
 
 
 class OperatingPointError(NonlinearModelError):
     """No operating point to linearize about: none, several, or not solvable symbolically."""
+
+
+class _TooLarge(OperatingPointError):
+    """More states than :data:`SYMBOLIC_MAX_STATES` for a symbolic point."""
 
 
 def _where(eqs: "StateEquations") -> str:
@@ -294,16 +300,38 @@ def symbolic_operating_point(eqs: "StateEquations", inputs: Optional[Mapping] = 
 
 
 def _tidy(e: sympy.Expr) -> sympy.Expr:
+    """``e`` cancelled, and factored when that is shorter (small expressions only: factoring
+    a long sum costs seconds)."""
+    from sympy.core.sorting import _node_count
+
+    if _node_count(e) > TIDY_MAX_OPS or len(e.free_symbols) > 10:
+        return e
     e = sympy.cancel(sympy.together(e))
     f = sympy.factor(e)
-    return f if sympy.count_ops(f) <= sympy.count_ops(e) else e
+    return f if _node_count(f) <= _node_count(e) else e
+
+
+def _linear_solve(M: sympy.Matrix, b: sympy.Matrix) -> Optional[list]:
+    """``M^-1 b`` over the field of rational functions of the parameters (sympy's
+    ``DomainMatrix``: exact cancellation, fast on sparse systems), or None when ``M`` is
+    singular."""
+    from sympy.polys.matrices import DomainMatrix
+    from sympy.polys.matrices.exceptions import DMNonInvertibleMatrixError
+
+    dM, db = DomainMatrix.from_Matrix(M).unify(DomainMatrix.from_Matrix(b))
+    K = dM.domain.get_field() if dM.domain.has_assoc_Field else dM.domain
+    try:
+        sol = dM.convert_to(K).lu_solve(db.convert_to(K))
+    except (DMNonInvertibleMatrixError, ZeroDivisionError):
+        return None
+    return list(sol.to_Matrix())
 
 
 def _solve(eqs: "StateEquations", exprs: list, with_totals: bool) -> dict:
     """``{state: x0}`` with ``exprs = 0``; the key ``None`` says whether it was linear."""
     where, x = _where(eqs), list(eqs.states)
     if len(x) > SYMBOLIC_MAX_STATES:
-        raise OperatingPointError(
+        raise _TooLarge(
             f"{where}{len(x)} states: the symbolic operating point is not solved above "
             f"{SYMBOLIC_MAX_STATES} states (its expressions grow like n^3); give parameter "
             "values for a numeric one (model.operating_point(inputs, values=...))")
@@ -315,10 +343,9 @@ def _solve(eqs: "StateEquations", exprs: list, with_totals: bool) -> dict:
     except (NonlinearError, ValueError):
         linear = False
     if linear:
-        M = M.applyfunc(sympy.cancel)
-        if M.rank(simplify=True) < len(x):
+        sol = _linear_solve(M, b)
+        if sol is None:
             raise OperatingPointError(_singular_text(eqs, M, with_totals))
-        sol = M.LUsolve(b)
         out: dict = {s: _tidy(v) for s, v in zip(x, sol)}
         out[None] = True
         return out
@@ -444,6 +471,7 @@ def deviations(eqs: "StateEquations", at: Any = None) -> tuple["StateEquations",
     """
     from .forms import linear_form, residual
 
+    given_states = True          # a point given (not solved here) is checked
     if isinstance(at, OperatingPoint):
         op = at
     elif hasattr(at, "states") and hasattr(at, "values") and hasattr(at, "stability"):
@@ -460,12 +488,31 @@ def deviations(eqs: "StateEquations", at: Any = None) -> tuple["StateEquations",
         keyname = (lambda k: k.name if isinstance(k, sympy.Symbol) else k)   # noqa: E731
         xs = {k: v for k, v in given.items() if keyname(k) in names}
         us = {k: v for k, v in given.items() if keyname(k) not in names}
-        op = symbolic_operating_point(eqs, us, states=xs or None)
+        given_states = bool(xs)
+        try:
+            op = symbolic_operating_point(eqs, us, states=xs or None)
+        except _TooLarge:
+            op = None       # a constant-source model keeps its matrices about any point
+    if op is None:
+        try:
+            linear_form(eqs.rhs, eqs.states, eqs.inputs, eqs, "state equation", "x'",
+                        offsets=True)
+        except NonlinearModelError:
+            raise _TooLarge(f"{_where(eqs)}{len(eqs.states)} states: the symbolic operating "
+                            f"point is not solved above {SYMBOLIC_MAX_STATES} states; give "
+                            "parameter values for a numeric one, or the point's states "
+                            "(at={state: value, ...})") from None
+        u0 = nominal_inputs(eqs, us)
+        return _linear_part(eqs), OperatingPoint(
+            {}, {u.name: v for u, v in u0.items()}, {},
+            how=f"x0 not solved symbolically ({len(eqs.states)} states > "
+                f"{SYMBOLIC_MAX_STATES}): the matrices are the same about every equilibrium; "
+                "model.operating_point(inputs, values=...) gives the numeric point")
     by_name = {s.name: s for s in eqs.states + eqs.inputs}
     point = {by_name[k]: sympy.sympify(v) for k, v in {**op.states, **op.inputs}.items()
              if k in by_name}
     point.update(dict.fromkeys(eqs.input_derivatives, sympy.S.Zero))
-    for s, r in zip(eqs.states, eqs.rhs):
+    for s, r in zip(eqs.states, eqs.rhs if given_states else ()):
         val = residual(r, point, 1e-9)
         if val is not None:
             raise OperatingPointError(
@@ -492,6 +539,20 @@ def deviations(eqs: "StateEquations", at: Any = None) -> tuple["StateEquations",
     dev = dataclasses.replace(eqs, rhs=lin_rows(A, B), output_exprs=lin_rows(C, D),
                               input_derivatives=(), descriptor=None)
     return dev, op
+
+
+def _linear_part(eqs: "StateEquations") -> "StateEquations":
+    """The record of ``A x + B u`` of a model linear but for its constant terms."""
+    from .forms import linear_form
+
+    A, B, _ = linear_form(eqs.rhs, eqs.states, eqs.inputs, eqs, "state equation", "x'",
+                          offsets=True)
+    C, D, _ = linear_form(eqs.output_exprs, eqs.states, eqs.inputs, eqs, "output", "y",
+                          offsets=True)
+    x = sympy.Matrix(len(eqs.states), 1, list(eqs.states))
+    u = sympy.Matrix(len(eqs.inputs), 1, list(eqs.inputs))
+    return dataclasses.replace(eqs, rhs=tuple(A * x + B * u), output_exprs=tuple(C * x + D * u),
+                               input_derivatives=(), descriptor=None)
 
 
 def numeric_operating_point(eqs: "StateEquations", eq: Any, units: Optional[Mapping] = None

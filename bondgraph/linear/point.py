@@ -93,7 +93,8 @@ class OperatingPoint:
         """The point in words (what the CLI prints)."""
         def part(label, values):
             if not values:
-                return f"{label}: (none)"
+                return f"{label}: ({self.how or 'none'})" if label == "x0" and self.how \
+                    and not self.states else f"{label}: (none)"
             return f"{label}: " + ", ".join(
                 f"{n} = {_text(v)}" + (f" {self.units[n]}" if n in self.units else "")
                 for n, v in values.items())
