@@ -249,7 +249,8 @@ def _descriptor_form(eqs: StateEquations) -> SymbolicStateSpace:
         return SymbolicStateSpace(ss.A, ss.B, ss.C, ss.D, ss.state_names,
                                   ss.input_names, ss.output_names,
                                   sympy.ImmutableMatrix(sympy.eye(len(eqs.states))),
-                                  known_parameters=eqs.known_parameters)
+                                  known_parameters=eqs.known_parameters,
+                                  operating_point=ss.operating_point)
     E, F = eqs.descriptor
     x, u = eqs.states, eqs.inputs
     A, B = linear_form(F, x, u, eqs, "state equation", "F")
