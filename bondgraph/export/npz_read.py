@@ -125,7 +125,7 @@ def _point(arrays: dict, names: dict, fail: Callable[[str], ExportError]):
                        f"name in {listed}); got shape {vec.shape}, dtype {vec.dtype}")
         _finite(vec, key, fail)
         parts.append(dict(zip(names[listed], vec.astype(float).tolist())))
-    return OperatingPoint(*parts, how=str(arrays["operating_point"]))
+    return OperatingPoint(parts[0], parts[1], parts[2], how=str(arrays["operating_point"]))
 
 
 def _expected(key: str) -> bool:

@@ -49,6 +49,7 @@ from typing import Mapping, Optional, Sequence, Union
 
 import sympy
 
+from ..elements import Se, Sf
 from ..errors import OutputError
 from ..model import Model
 from .errors import ModeError
@@ -124,9 +125,10 @@ def _with_inputs(sm: ModeSet, names: Sequence[str]) -> ModeSet:
     swap = {}
     for n in names:
         el = by_name.get(n)
-        if el is None or getattr(el, "kind", None) not in ("Se", "Sf"):
+        if not isinstance(el, (Se, Sf)):
             raise ModeError(f"inputs: {n!r} is not a source (Se or Sf) of model {sm.name!r}; "
-                            f"its sources are {', '.join(e.name for e in sm.flat.elements if getattr(e, 'kind', None) in ('Se', 'Sf')) or 'none'}")
+                            "its sources are "
+                            f"{', '.join(e.name for e in sm.flat.elements if isinstance(e, (Se, Sf))) or 'none'}")
         if el.value is None:
             raise ModeError(f"inputs: {el.label()} is already an input")
         if el.modulated:

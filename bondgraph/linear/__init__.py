@@ -29,14 +29,14 @@ Matrix([[1/C]])
 1/(C*R*s + 1)
 """
 
-from .model_forms import (derivative_form, descriptor_form, is_linear, laplace_system, linearize,
+from .model_forms import (derivative_form, descriptor_form, deviations, is_linear, laplace_system,
+                          linearize,
                           state_space, transfer_function, transfer_matrix)
 from .operating import Equilibrium, EquilibriumError
 from .implicit import equilibrium
 from .statespace import SymbolicStateSpace
-from .point import OperatingPoint
-from .offsets import (OperatingPointError, deviations, numeric_operating_point,
-                      symbolic_operating_point)
+from .point import OperatingPoint, OperatingPointError
+from .offsets import numeric_operating_point, symbolic_operating_point
 
 __all__ = ["SymbolicStateSpace", "state_space", "is_linear", "descriptor_form", "laplace_system",
            "derivative_form", "transfer_function", "transfer_matrix", "linearize",

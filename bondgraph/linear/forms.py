@@ -201,8 +201,8 @@ def linear_form(exprs, x, u, model: StateEquations, what: str, lhs: str, ud=None
             if c != 0:
                 k, j = col[v]
                 entries[k][(i, j)] = c
-    mats = (sparse_matrix(len(exprs), len(x), entries[0]),
-            sparse_matrix(len(exprs), len(u), entries[1]))
+    mats: tuple = (sparse_matrix(len(exprs), len(x), entries[0]),
+                   sparse_matrix(len(exprs), len(u), entries[1]))
     if ud is not None:
         mats += (sparse_matrix(len(exprs), len(ud_cols), entries[2]),)
     if offsets:

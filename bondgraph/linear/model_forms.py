@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+from typing import Any, Mapping
 
 import sympy
 from sympy.solvers.solveset import NonlinearError
@@ -32,13 +33,13 @@ from ..tf import transfer_matrix as tf_transfer_matrix
 from ..tf import resolve_signal
 from ..tf.errors import TermBudgetError
 from .forms import derivative_orders, linear_form, point_values, refuse_implicit, residual
-from .offsets import (OperatingPointError, deviations, nominal_inputs,
-                      symbolic_operating_point, unify)
-from .point import OperatingPoint
+from .conserved import unify, where
+from .offsets import SYMBOLIC_MAX_STATES, _TooLarge, nominal_inputs, symbolic_operating_point
+from .point import OperatingPoint, OperatingPointError
 from .statespace import SymbolicStateSpace
 
 __all__ = ["state_space", "is_linear", "descriptor_form", "laplace_system", "derivative_form",
-           "transfer_function", "transfer_matrix", "linearize"]
+           "transfer_function", "transfer_matrix", "linearize", "deviations"]
 
 
 def state_space(eqs: StateEquations, *, at=None) -> SymbolicStateSpace:
@@ -318,3 +319,109 @@ def linearize(eqs: StateEquations, x0=None, u0=None, *, equilibrium: bool = True
                               eqs.output_names, known_parameters=eqs.known_parameters,
                               D_derivatives=output_derivative_feedthrough(eqs, jac),
                               operating_point=op)
+
+
+def deviations(eqs: "StateEquations", at: Any = None) -> tuple["StateEquations", OperatingPoint]:
+    """The record in deviation variables about an operating point, and the point.
+
+    Parameters
+    ----------
+    eqs : StateEquations
+    at : OperatingPoint, mapping or None
+        The point: an :class:`OperatingPoint`; a mapping of input values and,
+        optionally, state values (``{"d": d0, "Vg": Vg0}``; states not given are
+        solved, see :func:`symbolic_operating_point`); None for the symbolic point
+        at the nominal inputs ``<input>0``.
+
+    Returns
+    -------
+    (StateEquations, OperatingPoint)
+        A record with the same names whose ``rhs`` and outputs are linear:
+        ``A dx + B du`` with ``A = df/dx`` and ``B = df/du`` at the point (its
+        symbols stand for the deviations).
+
+    Raises
+    ------
+    OperatingPointError
+        See :func:`symbolic_operating_point`; also a given point that is not an
+        equilibrium.
+    """
+    given_states = True          # a point given (not solved here) is checked
+    if isinstance(at, OperatingPoint):
+        op = at
+    elif hasattr(at, "states") and hasattr(at, "values") and hasattr(at, "stability"):
+        raise OperatingPointError(
+            f"{where(eqs)}a numeric Equilibrium holds parameter values: take the plant there "
+            "with model.linearize(eq) (numeric), or give the symbolic point as a mapping")
+    else:
+        if at is not None and not isinstance(at, Mapping):
+            raise OperatingPointError(
+                f"{where(eqs)}at: expected an OperatingPoint or a mapping of input (and state) "
+                f"names to values, got {type(at).__name__}")
+        given = dict(at or {})
+        names = {s.name for s in eqs.states}
+        keyname = (lambda k: k.name if isinstance(k, sympy.Symbol) else k)   # noqa: E731
+        xs = {k: v for k, v in given.items() if keyname(k) in names}
+        us = {k: v for k, v in given.items() if keyname(k) not in names}
+        given_states = bool(xs)
+        try:
+            op = symbolic_operating_point(eqs, us, states=xs or None)
+        except _TooLarge:
+            op = None       # a constant-source model keeps its matrices about any point
+    if op is None:
+        try:
+            linear_form(eqs.rhs, eqs.states, eqs.inputs, eqs, "state equation", "x'",
+                        offsets=True)
+        except NonlinearModelError:
+            raise _TooLarge(f"{where(eqs)}{len(eqs.states)} states: the symbolic operating "
+                            f"point is not solved above {SYMBOLIC_MAX_STATES} states; give "
+                            "parameter values for a numeric one, or the point's states "
+                            "(at={state: value, ...})") from None
+        u0 = nominal_inputs(eqs, us)
+        return _linear_part(eqs), OperatingPoint(
+            {}, {u.name: v for u, v in u0.items()}, {},
+            how=f"x0 not solved symbolically ({len(eqs.states)} states > "
+                f"{SYMBOLIC_MAX_STATES}): the matrices are the same about every equilibrium; "
+                "model.operating_point(inputs, values=...) gives the numeric point")
+    by_name = {s.name: s for s in eqs.states + eqs.inputs}
+    point = {by_name[k]: sympy.sympify(v) for k, v in {**op.states, **op.inputs}.items()
+             if k in by_name}
+    point.update(dict.fromkeys(eqs.input_derivatives, sympy.S.Zero))
+    for s, r in zip(eqs.states, eqs.rhs if given_states else ()):
+        val = residual(r, point, 1e-9)
+        if val is not None:
+            raise OperatingPointError(
+                f"{where(eqs)}the operating point is not an equilibrium: d{s.name}/dt = {val} "
+                "there")
+    affine = True
+    try:
+        A, B, _c = linear_form(eqs.rhs, eqs.states, eqs.inputs, eqs, "state equation", "x'",
+                               offsets=True)
+        C, D, _d = linear_form(eqs.output_exprs, eqs.states, eqs.inputs, eqs, "output", "y",
+                               offsets=True)
+    except NonlinearModelError:
+        affine = False
+    if not affine:
+        lin = linearize(eqs, {s.name: point[s] for s in eqs.states},
+                        {u.name: point[u] for u in eqs.inputs}, equilibrium=False)
+        A, B, C, D = lin.A, lin.B, lin.C, lin.D
+    x = sympy.Matrix(len(eqs.states), 1, list(eqs.states))
+    u = sympy.Matrix(len(eqs.inputs), 1, list(eqs.inputs))
+
+    def lin_rows(M, N):
+        return tuple(sympy.expand(e) if not affine else e for e in (M * x + N * u))
+    dev = dataclasses.replace(eqs, rhs=lin_rows(A, B), output_exprs=lin_rows(C, D),
+                              input_derivatives=(), descriptor=None)
+    return dev, op
+
+
+def _linear_part(eqs: "StateEquations") -> "StateEquations":
+    """The record of ``A x + B u`` of a model linear but for its constant terms."""
+    A, B, _ = linear_form(eqs.rhs, eqs.states, eqs.inputs, eqs, "state equation", "x'",
+                          offsets=True)
+    C, D, _ = linear_form(eqs.output_exprs, eqs.states, eqs.inputs, eqs, "output", "y",
+                          offsets=True)
+    x = sympy.Matrix(len(eqs.states), 1, list(eqs.states))
+    u = sympy.Matrix(len(eqs.inputs), 1, list(eqs.inputs))
+    return dataclasses.replace(eqs, rhs=tuple(A * x + B * u), output_exprs=tuple(C * x + D * u),
+                               input_derivatives=(), descriptor=None)

@@ -6,8 +6,9 @@ cycle times a source voltage (an averaged converter) makes ``f`` nonlinear in
 the inputs.  Such a model has no linear form in its own variables, but it has
 one in deviations ``dx = x - x0``, ``du = u - u0``, ``dy = y - y0`` about an
 equilibrium ``f(x0, u0) = 0``.  This module finds that point and the linear
-record in deviations that :func:`bondgraph.linear.state_space`,
-:func:`~bondgraph.linear.transfer_function` and the numeric plants use.
+point :func:`bondgraph.linear.deviations` takes the linear record about, which
+:func:`bondgraph.linear.state_space`, :func:`~bondgraph.linear.transfer_function`
+and the numeric plants use.
 
 * :func:`nominal_inputs` -- ``u0``: the values given, and for the others a
   symbol ``<input>0`` (``F0``, ``d0``, ``Vg0``): a symbolic operating point
@@ -15,9 +16,10 @@ record in deviations that :func:`bondgraph.linear.state_space`,
 * :func:`symbolic_operating_point` -- ``x0`` solved exactly: a linear solve
   when ``f`` is linear in the states at ``u0`` (constant sources, averaged
   converters), sympy's solver for small polynomial systems otherwise, with
-  the totals of conserved quantities (``totals=``) replacing the equations
-  they make dependent;
-* :func:`deviations` -- the record in deviation variables and the point.
+  the totals of conserved quantities (``totals=``,
+  :mod:`bondgraph.linear.conserved`) replacing the equations they make
+  dependent;
+* :func:`numeric_operating_point` -- the point of a numeric equilibrium.
 
 Examples
 --------
@@ -32,9 +34,7 @@ at ``x0 = (F0 + W)/k`` in the direction of both):
 >>> g.add(bg.Se("F"), bg.Se("weight", value=W), v, bg.I("m"), bg.R("b"), bg.C("k", stiffness="k"))
 >>> for t, h in [("F", v), ("weight", v), (v, "m"), (v, "b"), (v, "k")]: _ = g.connect(t, h)
 >>> model = bg.derive(g, outputs={"x": bg.displacement("k")})
->>> dev, op = deviations(model)
->>> dev.rhs
-(F - b*p_m/m - k*q_k, p_m/m)
+>>> op = symbolic_operating_point(model)
 >>> dict(op.states), dict(op.inputs)
 ({'p_m': 0, 'q_k': (F0 + W)/k}, {'F': F0})
 """
@@ -50,14 +50,15 @@ from sympy.solvers.solveset import NonlinearError
 from ..errors import NonlinearModelError
 from ..signals import t as T_SYM
 from .._support.sympify import as_expr
-from .point import OperatingPoint
+from .conserved import _named_symbols, conservation_hint, totals_equations, unify
+from .conserved import where as _where
+from .point import OperatingPoint, OperatingPointError
 
 if TYPE_CHECKING:
     from ..equations import StateEquations
 
-__all__ = ["OperatingPointError", "nominal_inputs", "symbolic_operating_point", "deviations",
-           "has_offsets", "totals_equations", "numeric_operating_point", "conserved_combinations",
-           "conservation_hint", "SYMBOLIC_MAX_STATES"]
+__all__ = ["OperatingPointError", "nominal_inputs", "symbolic_operating_point", "has_offsets",
+           "numeric_operating_point", "SYMBOLIC_MAX_STATES"]
 
 #: largest number of states whose operating point is solved symbolically (an exact linear
 #: solve grows like n^3 in expression size); larger models give their point numerically
@@ -66,32 +67,8 @@ SYMBOLIC_MAX_STATES = 40
 TIDY_MAX_OPS = 80
 
 
-class OperatingPointError(NonlinearModelError):
-    """No operating point to linearize about: none, several, or not solvable symbolically."""
-
-
 class _TooLarge(OperatingPointError):
     """More states than :data:`SYMBOLIC_MAX_STATES` for a symbolic point."""
-
-
-def _where(eqs: "StateEquations") -> str:
-    return f"model {eqs.name!r}: "
-
-
-def _named_symbols(eqs: "StateEquations") -> dict[str, sympy.Symbol]:
-    out = {p.name: p for p in eqs.parameters}
-    out.update({s.name: s for s in eqs.states + eqs.inputs})
-    return out
-
-
-def unify(expr: sympy.Expr, eqs: "StateEquations") -> sympy.Expr:
-    """``expr`` with every symbol named like a symbol of the model replaced by the model's
-    one: ``Symbol('C')`` typed by a user is the model's ``C`` (positive), so
-    ``-C + C`` cancels."""
-    known = _named_symbols(eqs)
-    swap = {s: known[s.name] for s in expr.free_symbols
-            if s.name in known and s != known[s.name]}
-    return expr.xreplace(swap) if swap else expr
 
 
 def has_offsets(eqs: "StateEquations") -> bool:
@@ -144,88 +121,6 @@ def nominal_inputs(eqs: "StateEquations", given: Optional[Mapping] = None) -> di
         taken.add(name)
         out[u] = sympy.Symbol(name, **u.assumptions0)
     return out
-
-
-# ------------------------------------------------------------------ totals
-def _law(key: Any, eqs: "StateEquations") -> sympy.Matrix:
-    """The row ``l`` of a total's key: a state name, a tuple of state names (their sum),
-    or a sympy expression linear in the states (matched by name)."""
-    by_name = {s.name: s for s in eqs.states}
-    if isinstance(key, str):
-        key = (key,)
-    if isinstance(key, (tuple, list, frozenset)):
-        missing = [k for k in key if not isinstance(k, str) or k not in by_name]
-        if missing or not key:
-            raise OperatingPointError(
-                f"{_where(eqs)}totals: {missing or key!r} names no state; a total's key is a "
-                f"state name, a tuple of them or an expression linear in the states "
-                f"({', '.join(by_name)})")
-        expr = sympy.Add(*[by_name[k] for k in key])
-    elif isinstance(key, sympy.Expr):
-        expr = key.xreplace({s: by_name[s.name] for s in key.free_symbols if s.name in by_name})
-    else:
-        raise OperatingPointError(f"{_where(eqs)}totals: a key must be a state name, a tuple of "
-                                  f"state names or a sympy expression; got {key!r}")
-    row = sympy.Matrix([[sympy.diff(expr, x) for x in eqs.states]])
-    if row.free_symbols & set(eqs.states) or expr.free_symbols & (set(eqs.inputs) | {T_SYM}) \
-            or sympy.expand(expr - (row * sympy.Matrix(eqs.states))[0]) != 0 or row.is_zero_matrix:
-        raise OperatingPointError(f"{_where(eqs)}totals: {key} is not a linear combination of the "
-                                  "states without a constant")
-    return row
-
-
-def totals_equations(eqs: "StateEquations", exprs: list, totals: Optional[Mapping],
-                     u0: Optional[Mapping] = None) -> tuple[list, list[int]]:
-    """``exprs`` (``f``) with the equations that conserved totals make dependent replaced by
-    ``l . x - total``; also the indices replaced.
-
-    Each key's combination ``l . x`` must be conserved (``l . f`` is identically 0 at
-    the inputs ``u0``).  With ``k`` totals, the equations of the rows' pivots (reduced
-    row echelon form) are replaced: ``l . f = 0`` makes each of them a combination
-    of the others.
-
-    Examples
-    --------
-    Two capacitors exchanging charge through a resistor: ``q1 + q2`` is conserved.
-
-    >>> import bondgraph as bg
-    >>> g = bg.BondGraph("float")
-    >>> g.add(bg.Zero("a"), bg.Zero("b"), bg.One("i"), bg.C("C1"), bg.C("C2"), bg.R("R"))
-    >>> for t, h in [("a", "C1"), ("a", "i"), ("i", "R"), ("i", "b"), ("b", "C2")]:
-    ...     _ = g.connect(t, h)
-    >>> eqs = bg.derive(g)
-    >>> Q = sympy.Symbol("Q")
-    >>> totals_equations(eqs, list(eqs.rhs), {("q_C1", "q_C2"): Q})
-    ([-Q + q_C1 + q_C2, (-q_C2/C2 + q_C1/C1)/R], [0])
-    """
-    if not totals:
-        return list(exprs), []
-    if not isinstance(totals, Mapping):
-        raise OperatingPointError(f"{_where(eqs)}totals: expected a mapping of a state name (or "
-                                  f"a tuple of them) to the total, got {type(totals).__name__}")
-    rows, values = [], []
-    for key, value in totals.items():
-        row = _law(key, eqs)
-        drift = sympy.expand(sum((row[j] * e for j, e in enumerate(eqs.rhs)), sympy.S.Zero)
-                             .xreplace(dict(u0 or {})))
-        if drift != 0 and sympy.simplify(drift) != 0:
-            raise OperatingPointError(
-                f"{_where(eqs)}totals: {key} is not conserved: its rate is {sympy.simplify(drift)}"
-                "; a total fixes a quantity the model keeps constant (a moiety, a floating "
-                "charge)")
-        rows.append(row)
-        values.append(unify(as_expr(value, what=f"the total of {key}", error=OperatingPointError),
-                            eqs))
-    L = sympy.Matrix.vstack(*rows)
-    pivots = L.rref()[1]
-    if len(pivots) < L.rows:
-        raise OperatingPointError(f"{_where(eqs)}totals: the {L.rows} totals are not independent "
-                                  "(one is a combination of the others)")
-    out = list(exprs)
-    x = sympy.Matrix(eqs.states)
-    for k, i in enumerate(pivots):
-        out[i] = (L.row(k) * x)[0] - values[k]
-    return out, list(pivots)
 
 
 # ------------------------------------------------------------------ the point
@@ -376,61 +271,6 @@ def _solve(eqs: "StateEquations", exprs: list, with_totals: bool) -> dict:
     return out
 
 
-def conserved_combinations(eqs: "StateEquations") -> list[sympy.Expr]:
-    """Combinations ``l . x`` of the states with ``l . f = 0`` identically (for every state,
-    input and parameter value): chemical moieties, a floating charge.
-
-    ``f`` is written ``M m(x, u)`` over its distinct state- and input-dependent factors
-    ``m`` (a constant term is one more); the laws are the left null space of ``M``.
-
-    Examples
-    --------
-    >>> import bondgraph as bg
-    >>> g = bg.BondGraph("float")
-    >>> g.add(bg.Zero("a"), bg.Zero("b"), bg.One("i"), bg.C("C1"), bg.C("C2"), bg.R("R"))
-    >>> for t, h in [("a", "C1"), ("a", "i"), ("i", "R"), ("i", "b"), ("b", "C2")]:
-    ...     _ = g.connect(t, h)
-    >>> conserved_combinations(bg.derive(g))
-    [q_C1 + q_C2]
-    """
-    variables = tuple(eqs.states) + tuple(eqs.inputs) + tuple(eqs.input_derivatives)
-    columns: dict = {}
-    entries: dict = {}
-    for i, f in enumerate(eqs.rhs):
-        for term in sympy.Add.make_args(sympy.expand(f)):
-            coeff, dep = term.as_independent(*variables, as_Add=False)
-            j = columns.setdefault(dep, len(columns))
-            entries[(i, j)] = entries.get((i, j), 0) + coeff
-    if not columns:
-        return [s for s in eqs.states]
-    M = sympy.Matrix(len(eqs.rhs), len(columns), lambda i, j: entries.get((i, j), 0))
-    laws = []
-    for vec in M.T.nullspace(simplify=True):
-        scale = sympy.lcm([sympy.fraction(sympy.nsimplify(c))[1] for c in vec]) \
-            if all(c.is_Rational for c in vec) else 1
-        laws.append(sympy.Add(*[sympy.simplify(c * scale) * x for c, x in zip(vec, eqs.states)]))
-    return laws
-
-
-def conservation_hint(eqs: "StateEquations") -> str:
-    """The totals to give when conserved quantities leave an equilibrium free, or ''."""
-    try:
-        laws = conserved_combinations(eqs) if len(eqs.states) <= 3 * SYMBOLIC_MAX_STATES else []
-    except Exception:       # noqa: BLE001 -- a hint only: never hide the real error
-        laws = []
-    if not laws:
-        return ""
-    def key(law):
-        terms = sympy.Add.make_args(law)
-        if all(t.is_Symbol for t in terms):
-            return repr(tuple(sorted(t.name for t in terms)))
-        return str(law)
-    example = ", ".join(f"{key(law)}: ..." for law in laws)
-    return (f"; conserved: {', '.join(map(str, laws))}, whose total"
-            f"{'s' if len(laws) > 1 else ''} the equilibrium needs: totals={{{example}}} "
-            "(a key is a state name, a tuple of state names summed, or a sympy expression)")
-
-
 def _singular_text(eqs: "StateEquations", M: sympy.Matrix, with_totals: bool) -> str:
     loose = []
     for vec in M.nullspace(simplify=True):
@@ -441,118 +281,6 @@ def _singular_text(eqs: "StateEquations", M: sympy.Matrix, with_totals: bool) ->
                 "linearize about")
     return (f"{_where(eqs)}the equilibrium is not isolated: f(x0, u0) = 0 does not determine "
             f"{', '.join(loose) or 'every state'} (the Jacobian df/dx is singular){hint}")
-
-
-# ------------------------------------------------------------------ the deviation record
-def deviations(eqs: "StateEquations", at: Any = None) -> tuple["StateEquations", OperatingPoint]:
-    """The record in deviation variables about an operating point, and the point.
-
-    Parameters
-    ----------
-    eqs : StateEquations
-    at : OperatingPoint, mapping or None
-        The point: an :class:`OperatingPoint`; a mapping of input values and,
-        optionally, state values (``{"d": d0, "Vg": Vg0}``; states not given are
-        solved, see :func:`symbolic_operating_point`); None for the symbolic point
-        at the nominal inputs ``<input>0``.
-
-    Returns
-    -------
-    (StateEquations, OperatingPoint)
-        A record with the same names whose ``rhs`` and outputs are linear:
-        ``A dx + B du`` with ``A = df/dx`` and ``B = df/du`` at the point (its
-        symbols stand for the deviations).
-
-    Raises
-    ------
-    OperatingPointError
-        See :func:`symbolic_operating_point`; also a given point that is not an
-        equilibrium.
-    """
-    from .forms import linear_form, residual
-
-    given_states = True          # a point given (not solved here) is checked
-    if isinstance(at, OperatingPoint):
-        op = at
-    elif hasattr(at, "states") and hasattr(at, "values") and hasattr(at, "stability"):
-        raise OperatingPointError(
-            f"{_where(eqs)}a numeric Equilibrium holds parameter values: take the plant there "
-            "with model.linearize(eq) (numeric), or give the symbolic point as a mapping")
-    else:
-        if at is not None and not isinstance(at, Mapping):
-            raise OperatingPointError(
-                f"{_where(eqs)}at: expected an OperatingPoint or a mapping of input (and state) "
-                f"names to values, got {type(at).__name__}")
-        given = dict(at or {})
-        names = {s.name for s in eqs.states}
-        keyname = (lambda k: k.name if isinstance(k, sympy.Symbol) else k)   # noqa: E731
-        xs = {k: v for k, v in given.items() if keyname(k) in names}
-        us = {k: v for k, v in given.items() if keyname(k) not in names}
-        given_states = bool(xs)
-        try:
-            op = symbolic_operating_point(eqs, us, states=xs or None)
-        except _TooLarge:
-            op = None       # a constant-source model keeps its matrices about any point
-    if op is None:
-        try:
-            linear_form(eqs.rhs, eqs.states, eqs.inputs, eqs, "state equation", "x'",
-                        offsets=True)
-        except NonlinearModelError:
-            raise _TooLarge(f"{_where(eqs)}{len(eqs.states)} states: the symbolic operating "
-                            f"point is not solved above {SYMBOLIC_MAX_STATES} states; give "
-                            "parameter values for a numeric one, or the point's states "
-                            "(at={state: value, ...})") from None
-        u0 = nominal_inputs(eqs, us)
-        return _linear_part(eqs), OperatingPoint(
-            {}, {u.name: v for u, v in u0.items()}, {},
-            how=f"x0 not solved symbolically ({len(eqs.states)} states > "
-                f"{SYMBOLIC_MAX_STATES}): the matrices are the same about every equilibrium; "
-                "model.operating_point(inputs, values=...) gives the numeric point")
-    by_name = {s.name: s for s in eqs.states + eqs.inputs}
-    point = {by_name[k]: sympy.sympify(v) for k, v in {**op.states, **op.inputs}.items()
-             if k in by_name}
-    point.update(dict.fromkeys(eqs.input_derivatives, sympy.S.Zero))
-    for s, r in zip(eqs.states, eqs.rhs if given_states else ()):
-        val = residual(r, point, 1e-9)
-        if val is not None:
-            raise OperatingPointError(
-                f"{_where(eqs)}the operating point is not an equilibrium: d{s.name}/dt = {val} "
-                "there")
-    affine = True
-    try:
-        A, B, _c = linear_form(eqs.rhs, eqs.states, eqs.inputs, eqs, "state equation", "x'",
-                               offsets=True)
-        C, D, _d = linear_form(eqs.output_exprs, eqs.states, eqs.inputs, eqs, "output", "y",
-                               offsets=True)
-    except NonlinearModelError:
-        affine = False
-    if not affine:
-        from .model_forms import linearize
-        lin = linearize(eqs, {s.name: point[s] for s in eqs.states},
-                        {u.name: point[u] for u in eqs.inputs}, equilibrium=False)
-        A, B, C, D = lin.A, lin.B, lin.C, lin.D
-    x = sympy.Matrix(len(eqs.states), 1, list(eqs.states))
-    u = sympy.Matrix(len(eqs.inputs), 1, list(eqs.inputs))
-
-    def lin_rows(M, N):
-        return tuple(sympy.expand(e) if not affine else e for e in (M * x + N * u))
-    dev = dataclasses.replace(eqs, rhs=lin_rows(A, B), output_exprs=lin_rows(C, D),
-                              input_derivatives=(), descriptor=None)
-    return dev, op
-
-
-def _linear_part(eqs: "StateEquations") -> "StateEquations":
-    """The record of ``A x + B u`` of a model linear but for its constant terms."""
-    from .forms import linear_form
-
-    A, B, _ = linear_form(eqs.rhs, eqs.states, eqs.inputs, eqs, "state equation", "x'",
-                          offsets=True)
-    C, D, _ = linear_form(eqs.output_exprs, eqs.states, eqs.inputs, eqs, "output", "y",
-                          offsets=True)
-    x = sympy.Matrix(len(eqs.states), 1, list(eqs.states))
-    u = sympy.Matrix(len(eqs.inputs), 1, list(eqs.inputs))
-    return dataclasses.replace(eqs, rhs=tuple(A * x + B * u), output_exprs=tuple(C * x + D * u),
-                               input_derivatives=(), descriptor=None)
 
 
 def numeric_operating_point(eqs: "StateEquations", eq: Any, units: Optional[Mapping] = None

@@ -228,15 +228,15 @@ def equilibrium(model: "Model", values: ParameterValues, inputs: Optional[Mappin
     states, ins = list(model.states), list(model.inputs)
     true_system = None
     if totals:
-        from .offsets import totals_equations
+        from .conserved import totals_equations
 
         true_system = _trim.Equations(eqs_p, states, ins, [u0[u] for u in ins], where)
         eqs_p, _ = totals_equations(model, eqs_p, totals, u0)
         eqs_p = [e.xreplace(pvals) for e in eqs_p]
-        loose = set().union(*(e.free_symbols for e in eqs_p)) - set(states) - set(ins)
-        if loose:
+        unknown = set().union(*(e.free_symbols for e in eqs_p)) - set(states) - set(ins)
+        if unknown:
             raise EquilibriumError(f"{where}totals: give numbers (or parameters with values), "
-                                   f"not {', '.join(sorted(map(str, loose)))}")
+                                   f"not {', '.join(sorted(map(str, unknown)))}")
     system = _trim.Equations(eqs_p, states, ins, [u0[u] for u in ins], where)
     free_idx = [states.index(x) for x in free]
     x_start = np.array([held.get(x, start.get(x, 0.0)) for x in states])
@@ -294,7 +294,7 @@ def equilibrium(model: "Model", values: ParameterValues, inputs: Optional[Mappin
 
 
 def _conservation_hint(model) -> str:
-    from .offsets import conservation_hint
+    from .conserved import conservation_hint
     return conservation_hint(model)
 
 

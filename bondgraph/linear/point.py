@@ -31,10 +31,14 @@ from typing import Any, Mapping, Optional, Sequence
 import numpy as np
 import sympy
 
-from ..errors import BondGraphError
+from ..errors import BondGraphError, NonlinearModelError
 from ..parameters import ParameterValues, exact_value, match_values
 
-__all__ = ["OperatingPoint"]
+__all__ = ["OperatingPoint", "OperatingPointError"]
+
+
+class OperatingPointError(NonlinearModelError):
+    """No operating point to linearize about: none, several, or not solvable symbolically."""
 
 
 def _value(v: Any) -> Any:
