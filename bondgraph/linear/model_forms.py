@@ -47,7 +47,7 @@ def state_space(eqs: StateEquations, *, at=None) -> SymbolicStateSpace:
 
     A model with constant sources, or linear in its states but not in its
     inputs, gives its form in deviations about the operating point (see
-    :func:`bondgraph.linear.offsets.deviations`; ``at`` chooses the point) and
+    :func:`bondgraph.linear.deviations`; ``at`` chooses the point) and
     says which in ``operating_point``.
 
     Raises

@@ -169,7 +169,7 @@ def equilibrium(model: "Model", values: ParameterValues, inputs: Optional[Mappin
         a key is a state name, a tuple of state names (their sum) or a sympy
         expression linear in the states; each replaces one equation the
         conservation makes dependent
-        (:func:`bondgraph.linear.offsets.totals_equations`).  The stability
+        (:func:`bondgraph.linear.conserved.totals_equations`).  The stability
         verdict then leaves out one zero eigenvalue per total (the
         conserved directions).
 
