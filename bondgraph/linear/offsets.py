@@ -41,13 +41,11 @@ at ``x0 = (F0 + W)/k`` in the direction of both):
 
 from __future__ import annotations
 
-import dataclasses
 from typing import TYPE_CHECKING, Any, Mapping, Optional
 
 import sympy
 from sympy.solvers.solveset import NonlinearError
 
-from ..errors import NonlinearModelError
 from ..signals import t as T_SYM
 from .._support.sympify import as_expr
 from .conserved import _named_symbols, conservation_hint, totals_equations, unify
@@ -57,7 +55,7 @@ from .point import OperatingPoint, OperatingPointError
 if TYPE_CHECKING:
     from ..equations import StateEquations
 
-__all__ = ["OperatingPointError", "nominal_inputs", "symbolic_operating_point", "has_offsets",
+__all__ = ["OperatingPointError", "nominal_inputs", "symbolic_operating_point",
            "numeric_operating_point", "SYMBOLIC_MAX_STATES"]
 
 #: largest number of states whose operating point is solved symbolically (an exact linear
@@ -69,20 +67,6 @@ TIDY_MAX_OPS = 80
 
 class _TooLarge(OperatingPointError):
     """More states than :data:`SYMBOLIC_MAX_STATES` for a symbolic point."""
-
-
-def has_offsets(eqs: "StateEquations") -> bool:
-    """Whether a state equation or an output has a term free of states and inputs
-    (``f(0, 0) != 0``: a constant source)."""
-    zero = {s: sympy.S.Zero for s in eqs.states + eqs.inputs + eqs.input_derivatives}
-    for ex in eqs.rhs + eqs.output_exprs:
-        try:
-            at = ex.xreplace(zero)
-        except (TypeError, ZeroDivisionError):      # pragma: no cover - defensive
-            return True
-        if at != 0 and not at.has(sympy.zoo, sympy.nan):
-            return True
-    return False
 
 
 def nominal_inputs(eqs: "StateEquations", given: Optional[Mapping] = None) -> dict:
