@@ -33,7 +33,7 @@ from .equations.derive import OutputSpec
 from .graph import BondGraph
 from .hamiltonian import PortHamiltonian, energy, port_hamiltonian
 from . import linear
-from .linear import Equilibrium, SymbolicStateSpace
+from .linear import Equilibrium, OperatingPoint, SymbolicStateSpace
 from .linear.latex import equations_latex, model_latex
 from .numeric import linear_plant
 
@@ -74,14 +74,30 @@ class Model(StateEquations):
         """Whether ``rhs`` and outputs are linear in states and inputs."""
         return linear.is_linear(self)
 
-    def state_space(self) -> SymbolicStateSpace:
+    def state_space(self, *, at=None) -> SymbolicStateSpace:
         """A, B, C, D of a linear model (sympy ImmutableMatrix), with names.
+
+        A model with constant sources (gravity, an ambient temperature), or
+        linear in its states but not in its inputs, gives its matrices in
+        deviations ``x - x0``, ``u - u0``, ``y - y0`` about its equilibrium,
+        held in the result's ``operating_point`` (see :meth:`operating_point`;
+        inputs without a value there are the symbols ``<input>0``).
+
+        Parameters
+        ----------
+        at : mapping or OperatingPoint, optional
+            The point to take the form about: input values (``{"F": 0}``),
+            states too if wanted (the others are solved), or an
+            :class:`~bondgraph.linear.OperatingPoint`.  Needed for a model
+            nonlinear in its states.
 
         Raises
         ------
         NonlinearModelError
-            If an equation is not linear in states and inputs, has a constant
-            term, depends on time or on input derivatives.
+            If an equation is not linear in the states (and no ``at``), depends
+            on time or on input derivatives; an
+            :class:`~bondgraph.linear.OperatingPointError` when the point is not
+            isolated (a conserved total to fix) or not solvable.
 
         Examples
         --------
@@ -94,7 +110,7 @@ class Model(StateEquations):
         >>> ss.A, ss.B, ss.C, ss.D
         (Matrix([[-1/(C*R)]]), Matrix([[1/R]]), Matrix([[1/C]]), Matrix([[0]]))
         """
-        return linear.state_space(self)
+        return linear.state_space(self, at=at)
 
     def descriptor_form(self) -> SymbolicStateSpace:
         """``E x' = A x + B u`` as derived, before eliminating dependent storage.
@@ -104,7 +120,7 @@ class Model(StateEquations):
         return linear.descriptor_form(self)
 
     def transfer_function(self, input=None, output=None, *, descriptor: bool | None = None,
-                          **options):
+                          at=None, **options):
         """Symbolic ``G(s)`` from one input to one output (see :mod:`bondgraph.tf`).
 
         Models with derivative causality use their descriptor form
@@ -119,6 +135,12 @@ class Model(StateEquations):
         (or ``C`` meeting ``B1``) makes the numerator degree exceed the
         denominator's.  Only the chosen output is linearized: another output
         that is nonlinear or improper does not matter.
+
+        A model with constant sources, or nonlinear in its inputs but linear
+        in its states (an averaged converter, ``d Vg``), gives ``G`` from
+        ``u - u0`` to ``y - y0`` about its equilibrium, in
+        ``G.operating_point`` (``at=`` chooses the point, as for
+        :meth:`state_space`).
 
         Examples
         --------
@@ -141,15 +163,17 @@ class Model(StateEquations):
         >>> G.expr, G.is_proper
         (b + m*s, False)
         """
-        return linear.transfer_function(self, input, output, descriptor=descriptor, **options)
+        return linear.transfer_function(self, input, output, descriptor=descriptor, at=at,
+                                        **options)
 
-    def transfer_matrix(self, **options):
+    def transfer_matrix(self, *, at=None, **options):
         """All input/output transfer functions over one denominator (see :mod:`bondgraph.tf`).
 
         Input derivatives are handled as in :meth:`transfer_function`: an
         entry that involves one may be improper, the others are unchanged.
+        Constant sources and ``at=`` as in :meth:`transfer_function`.
         """
-        return linear.transfer_matrix(self, **options)
+        return linear.transfer_matrix(self, at=at, **options)
 
     def to_latex(self, *, matrices: bool = False) -> str:
         r"""The model as a paper prints it: ``\dot{p}_{m} &= ...`` lines, then the outputs.
@@ -185,13 +209,15 @@ class Model(StateEquations):
 
     # ----------------------------------------------------------------- operating points
     def equilibrium(self, values, inputs=None, *, guess=None, fixed=None, tol: float = 1e-10,
-                    exact: bool = True) -> Equilibrium:
+                    exact: bool = True, totals=None) -> Equilibrium:
         """Operating point ``f(x0, u0) = 0`` at numeric parameter values (trim).
 
         See :func:`bondgraph.linear.operating.equilibrium`: exact (sympy) for small
         polynomial systems, else :func:`scipy.optimize.root` from ``guess``;
         the point must be isolated (``fixed=`` holds states no equation
-        determines).  Pass the result to :meth:`linearize` for the plant there.
+        determines; ``totals=`` fixes the totals of conserved quantities, as
+        for :meth:`operating_point`).  Pass the result to :meth:`linearize` for
+        the plant there.
 
         Examples
         --------
@@ -207,7 +233,55 @@ class Model(StateEquations):
         3.14159265359
         """
         return linear.equilibrium(self, values, inputs, guess=guess, fixed=fixed, tol=tol,
-                                  exact=exact)
+                                  exact=exact, totals=totals)
+
+    def operating_point(self, inputs=None, *, values=None, totals=None, guess=None,
+                        fixed=None, tol: float = 1e-10) -> "OperatingPoint":
+        """The equilibrium the linear forms are taken about: ``x0``, ``u0`` and ``y0``.
+
+        Without ``values`` it is symbolic
+        (:func:`bondgraph.linear.offsets.symbolic_operating_point`: an exact
+        linear solve when the state equations are linear in the states at
+        ``u0``, sympy's solver for small polynomial ones); with numeric
+        ``values`` it is the numeric search of :meth:`equilibrium`, and
+        ``guess``/``fixed`` go to it.
+
+        Parameters
+        ----------
+        inputs : mapping of input name to value, optional
+            ``u0``.  Symbolic: inputs not given are the symbols ``<input>0``;
+            numeric: 0.
+        values : mapping of parameter name to number, optional
+        totals : mapping, optional
+            The totals of conserved quantities (a chemical moiety, a floating
+            charge), which leave the equilibrium free otherwise: a key is a
+            state name, a tuple of state names (their sum) or a sympy
+            expression linear in the states, e.g. ``{("q_E", "q_C"): E_T}``.
+
+        Returns
+        -------
+        OperatingPoint
+
+        Examples
+        --------
+        >>> import bondgraph as bg
+        >>> g = bg.BondGraph("rc")
+        >>> g.add(bg.Se("V"), bg.One("i"), bg.R("R"), bg.C("C"))
+        >>> for t, h in [("V", "i"), ("i", "R"), ("i", "C")]: _ = g.connect(t, h)
+        >>> model = bg.derive(g, outputs={"vC": bg.effort("C")})
+        >>> print(model.operating_point().note)
+        deviations about the operating point x0: q_C = C*V0; u0: V = V0; y0: vC = V0
+        >>> model.operating_point({"V": 2.0}, values={"R": 1.0, "C": 0.5}).states["q_C"]
+        1.0
+        """
+        if values is None:
+            if guess is not None or fixed is not None:
+                raise linear.OperatingPointError(
+                    f"model {self.name!r}: guess= and fixed= steer the numeric search; give "
+                    "values= with them")
+            return linear.symbolic_operating_point(self, inputs, totals=totals)
+        eq = self.equilibrium(values, inputs, guess=guess, fixed=fixed, tol=tol, totals=totals)
+        return linear.numeric_operating_point(self, eq)
 
     def linearize(self, x0=None, u0=None, *, values=None, equilibrium: bool = True,
                   tol: float = 1e-9):
@@ -238,11 +312,15 @@ class Model(StateEquations):
             relative above).  Exact parts (integers, rationals, ``sympy.pi``)
             must simplify to exactly zero.  ``tol=0`` asks for exact zeros.
 
+        Without ``x0`` the point is the equilibrium at ``u0``: solved exactly
+        (inputs not in ``u0`` are the symbols ``<input>0``), or, with
+        ``values``, found by :meth:`equilibrium` (inputs not given are 0).
+
         Returns
         -------
         SymbolicStateSpace or NumericStateSpace
             In deviation variables ``x - x0``, ``u - u0``; numeric when values
-            are given.
+            are given.  Its ``operating_point`` holds ``x0``, ``u0``, ``y0``.
 
         Examples
         --------
@@ -261,6 +339,8 @@ class Model(StateEquations):
         if isinstance(x0, Equilibrium) or values is not None:
             if values is None:
                 values = dict(x0.values)
+            if x0 is None:
+                x0, u0 = self.equilibrium(values, u0, tol=min(tol, 1e-10)), None
             return linear_plant(self, x0, u0, values, tol=max(tol, 1e-9), equilibrium=equilibrium)
         return linear.linearize(self, x0, u0, equilibrium=equilibrium, tol=tol)
 

@@ -108,6 +108,7 @@ def cmd_tf(args) -> None:
             ss = model.state_space()
         except NonlinearModelError as exc:
             raise _needs_point(exc) from None
+        _op.announce(ss)            # constant sources: deviations about the equilibrium
         matrices = [ss.A, ss.B, ss.C, ss.D]
     inp = args.input if args.input is not None else _only(ss.input_names, "input")
     outp = args.output if args.output is not None else _only(ss.output_names, "output")
@@ -240,6 +241,7 @@ def cmd_export(args) -> None:
                 plant = compile_plant(model).plant(full)
             except NonlinearModelError as exc:
                 raise _needs_point(exc) from None
+            _op.announce(plant)     # constant sources: the file stores x0, u0, y0
         if defn.units:         # the model declares units: the file carries its signals'
             signals = {*plant.state_names, *plant.input_names, *plant.output_names}
             plant = plant.with_units({k: v for k, v in defn.units.items() if k in signals})

@@ -42,7 +42,7 @@ from typing import Mapping, Optional, Sequence
 from ._common import UsageError
 
 __all__ = ["OperatingPointError", "name_value", "add_arguments", "usage_problem",
-           "read_operating_point", "check_names", "file_point", "linear_plant", "HINT"]
+           "read_operating_point", "check_names", "file_point", "linear_plant", "announce", "HINT"]
 
 #: what the error for a nonlinear model without an operating point adds
 HINT = ("give an operating point: --operating-point FILE (a .json/.toml file with [states] and "
@@ -245,6 +245,14 @@ def file_point(args, model, point=None) -> tuple[dict, dict]:
     check_names(u0, list(model.input_names), "input", where)
     _note("from the file", x0, u0)
     return x0, u0
+
+
+def announce(result) -> None:
+    """Say on stderr which operating point a linear form was taken about, when it has one (a
+    model with constant sources: gravity, an ambient temperature)."""
+    point = getattr(result, "operating_point", None)
+    if point is not None:
+        print(f"note: {point.note}", file=sys.stderr)
 
 
 def _note(how: str, states: Mapping[str, float], inputs: Mapping[str, float]) -> None:

@@ -21,6 +21,12 @@ Formats
     arrays of char); ``parameter_values`` (1-by-k double, in the order of
     ``parameter_names``); ``model_name`` (char); ``format`` (char,
     ``"bondgraph-statespace"``) and ``format_version`` (double, 1).
+    A plant taken about an operating point (a linearization, a model with
+    constant sources: :attr:`NumericStateSpace.operating_point`) adds ``x0``,
+    ``u0``, ``y0`` (column vectors of doubles in the order of the names: the
+    matrices act on ``x - x0``, ``u - u0`` and give ``y - y0``) and
+    ``operating_point`` (char: the point in words, with units when known);
+    without them the plant is in the model's own variables.
     Parameter names such as ``motor.Ra`` are kept as strings, not as struct
     fields, since they are not MATLAB identifiers.  Names are written as
     MATLAB char arrays: ASCII names (quotes and newlines included) read back
@@ -32,7 +38,8 @@ Formats
 
 ``.npz`` (:func:`numpy.savez`)
     The same arrays under the same names; names as unicode string arrays,
-    ``model_name`` and ``format`` as 0-d string arrays.  A sparse plant
+    ``model_name``, ``format`` and ``operating_point`` as 0-d string arrays,
+    ``x0``, ``u0``, ``y0`` as 1-d arrays.  A sparse plant
     stores each of ``A``, ``B``, ``C``, ``D`` as four CSR arrays instead of
     one dense array (the layout of :func:`scipy.sparse.save_npz`, one set per
     matrix): ``A_data`` (float64 values), ``A_indices`` (column of each
@@ -56,14 +63,17 @@ JSON, format ``bondgraph-statespace`` version 1
           "B": [[1.0], [0.0]],                 // n rows of m numbers
           "C": [[0.0, 100.0]],                 // p rows of n numbers
           "D": [[0.0]],                        // p rows of m numbers
-          "parameters": {"J": 0.01, "K": 0.1}  // name -> value used
+          "parameters": {"J": 0.01, "K": 0.1}, // name -> value used
+          "operating_point": {                 // optional: the point the plant is about
+            "states": {"p_La": 0.0, "p_J": 0.0}, "inputs": {"V": 0.0},
+            "outputs": {"omega": 0.0}, "how": "given"}
         }
 
     Matrices are row-major nested lists of finite numbers (JSON has no NaN or
     infinity: a plant with such entries cannot be written); a matrix with no
     rows is ``[]``.  :func:`load_json` reads the format back and checks every
-    field (``model``, ``parameters`` and ``units`` -- signal name -> unit text,
-    written by :mod:`bondgraph.library.units` -- may be left out; any other key
+    field (``model``, ``parameters``, ``operating_point`` and ``units`` -- signal
+    name -> unit text, written by :mod:`bondgraph.library.units` -- may be left out; any other key
     missing, an unknown key, a repeated key or another version is refused).
     JSON stays dense (the format any reader can take as is): a sparse plant
     is written with its matrices expanded when it has at most
@@ -130,9 +140,34 @@ def _cell(names: Sequence[str]) -> np.ndarray:
     return out
 
 
+def operating_vectors(plant: NumericStateSpace) -> Optional[tuple]:
+    """``(x0, u0, y0, note)`` of a plant taken about an operating point, else None.
+
+    Raises
+    ------
+    ExportError
+        A point that is still symbolic or lacks a signal of the plant.
+    """
+    op = getattr(plant, "operating_point", None)
+    if op is None:
+        return None
+    try:
+        x0, u0, y0 = op.vectors(plant.state_names, plant.input_names, plant.output_names)
+    except BondGraphError as exc:
+        raise ExportError(f"plant {plant.name!r}: {exc}") from None
+    for label, vec in (("x0", x0), ("u0", u0), ("y0", y0)):
+        if not np.all(np.isfinite(vec)):
+            raise ExportError(f"plant {plant.name!r}: its operating point {label} is not finite")
+    return x0, u0, y0, op.note
+
+
 def _mat_dict(plant: NumericStateSpace) -> dict[str, Any]:
     pnames = list(plant.parameters)
-    return {
+    point = operating_vectors(plant)
+    extra = {} if point is None else {
+        "x0": point[0].reshape(-1, 1), "u0": point[1].reshape(-1, 1),
+        "y0": point[2].reshape(-1, 1), "operating_point": point[3]}
+    return {**extra,
         "A": plant.A, "B": plant.B, "C": plant.C, "D": plant.D,
         "state_names": _cell(plant.state_names),
         "input_names": _cell(plant.input_names),
@@ -277,6 +312,10 @@ def export_npz(plant: NumericStateSpace, path: PathLike) -> None:
     if p.units:          # optional: signal name -> unit text, as the .mat and JSON files keep
         data["unit_names"] = np.array(list(p.units), dtype=str).reshape(-1)
         data["unit_texts"] = np.array([str(v) for v in p.units.values()], dtype=str).reshape(-1)
+    point = operating_vectors(p)
+    if point is not None:
+        data.update({"x0": point[0], "u0": point[1], "y0": point[2],
+                     "operating_point": np.array(point[3])})
     atomic_write(path, lambda fh: np.savez(fh, **data))
 
 
@@ -347,7 +386,20 @@ def to_json_dict(plant: NumericStateSpace) -> dict[str, Any]:
         "outputs": list(p.output_names),
         "A": p.A.tolist(), "B": p.B.tolist(), "C": p.C.tolist(), "D": p.D.tolist(),
         "parameters": dict(p.parameters),
+        **_json_point(plant),
     }
+
+
+def _json_point(plant: NumericStateSpace) -> dict[str, Any]:
+    point = operating_vectors(plant)
+    if point is None:
+        return {}
+    x0, u0, y0, _ = point
+    return {"operating_point": {
+        "states": dict(zip(plant.state_names, x0.tolist())),
+        "inputs": dict(zip(plant.input_names, u0.tolist())),
+        "outputs": dict(zip(plant.output_names, y0.tolist())),
+        "how": plant.operating_point.how}}
 
 
 def _json_text(doc: dict[str, Any]) -> str:
@@ -464,8 +516,8 @@ def load_json(path: PathLike) -> NumericStateSpace:
 
 #: keys of the JSON document; ``model`` and ``parameters`` may be left out
 _JSON_KEYS = ("format", "version", "model", "states", "inputs", "outputs", "A", "B", "C", "D",
-              "parameters", "units")
-_JSON_OPTIONAL = ("model", "parameters", "units")
+              "parameters", "units", "operating_point")
+_JSON_OPTIONAL = ("model", "parameters", "units", "operating_point")
 
 
 def _plant_from_document(doc: Any, where: str) -> NumericStateSpace:
@@ -516,13 +568,42 @@ def _plant_from_document(doc: Any, where: str) -> NumericStateSpace:
         if problem is not None:
             raise fail(f"parameter {key!r} {problem}")
         params[key] = float(value)
+    units = {k: v for k, v in units_doc.items()
+             if k in {*names["states"], *names["inputs"], *names["outputs"]}}
+    point = _json_read_point(doc.get("operating_point"), names, units, fail)
     try:
-        signals = {*names["states"], *names["inputs"], *names["outputs"]}
         return NumericStateSpace(mats["A"], mats["B"], mats["C"], mats["D"], names["states"],
                                  names["inputs"], names["outputs"], params, model,
-                                 units={k: v for k, v in units_doc.items() if k in signals})
+                                 units=units, operating_point=point)
     except (BondGraphError, TypeError, ValueError) as exc:    # pragma: no cover - checked above
         raise fail(f"malformed {FORMAT_NAME} document: {exc}") from exc
+
+
+def _json_read_point(doc: Any, names: Mapping, units: Mapping, fail: Callable[[str], ExportError]):
+    """The :class:`~bondgraph.linear.OperatingPoint` of an ``"operating_point"`` object, or None."""
+    if doc is None:
+        return None
+    from ..linear.point import OperatingPoint
+
+    parts = {"states": "states", "inputs": "inputs", "outputs": "outputs"}
+    if not isinstance(doc, dict) or set(doc) - {*parts, "how"} or not set(parts) <= set(doc):
+        raise fail('"operating_point" must be an object with "states", "inputs", "outputs" '
+                   f'(names to numbers) and optionally "how"; got {short_repr.repr(doc)}')
+    values = {}
+    for key, listed in parts.items():
+        part = doc[key]
+        if not isinstance(part, dict) or list(part) != list(names[listed]):
+            raise fail(f'"operating_point"."{key}" must name exactly the {listed} '
+                       f'{list(names[listed])}, in order; got {short_repr.repr(part)}')
+        for n, v in part.items():
+            problem = number_problem(v)
+            if problem is not None:
+                raise fail(f'"operating_point"."{key}" {n!r} {problem}')
+        values[key] = {n: float(v) for n, v in part.items()}
+    how = doc.get("how", "")
+    if not isinstance(how, str):
+        raise fail(f'"operating_point"."how" must be a string; got {short_repr.repr(how)}')
+    return OperatingPoint(values["states"], values["inputs"], values["outputs"], units, how)
 
 
 def _json_names(value: Any, key: str, fail: Callable[[str], ExportError]) -> tuple[str, ...]:

@@ -39,14 +39,20 @@ def _member_spec(key: str) -> tuple[str, Any]:
         return _NUMERIC, 2
     if key in _NAMES or key in _UNITS:
         return "U", 1
-    if key in ("model_name", "format"):
+    if key in ("model_name", "format", "operating_point"):
         return "U", 0
+    if key in ("x0", "u0", "y0"):
+        return _NUMERIC, 1
     if key == "format_version":
         return "iu", 0
     if key == "parameter_values":
         return _NUMERIC, 1
     part = key.split("_", 1)[1]
     return {"data": (_NUMERIC, 1), "indices": ("iu", 1), "indptr": ("iu", 1), "shape": ("iu", 1)}[part]
+
+
+#: the operating point's arrays (optional, all or none)
+_POINT = ("x0", "u0", "y0", "operating_point")
 
 
 def read_npz(path: str, FORMAT_NAME: str, FORMAT_VERSION: int) -> Any:
@@ -95,11 +101,13 @@ def read_npz(path: str, FORMAT_NAME: str, FORMAT_VERSION: int) -> Any:
     _finite(values, "parameter_values", fail)
     units = _units(arrays, {*names["state_names"], *names["input_names"], *names["output_names"]},
                    fail)
+    point = _point(arrays, names, fail)
     try:
         return NumericStateSpace(mats["A"], mats["B"], mats["C"], mats["D"], names["state_names"],
                                  names["input_names"], names["output_names"],
                                  dict(zip(names["parameter_names"], values.astype(float).tolist())),
-                                 str(arrays["model_name"]), units=units)
+                                 str(arrays["model_name"]), units=units,
+                                 operating_point=point)
     except (BondGraphError, TypeError, ValueError) as exc:
         raise fail(f"malformed {FORMAT_NAME} archive: {exc}") from exc
 
@@ -121,11 +129,29 @@ def _units(arrays: dict, signals: set, fail: Callable[[str], ExportError]) -> di
     return {k: v for k, v in zip(keys, texts) if k in signals}
 
 
+def _point(arrays: dict, names: dict, fail: Callable[[str], ExportError]):
+    """The operating point stored as ``x0``, ``u0``, ``y0`` (all or none), or None."""
+    keys = [k for k in _POINT if k in arrays]
+    if not keys:
+        return None
+    if len(keys) != len(_POINT):
+        raise fail(f"an operating point needs {', '.join(_POINT)}; got only {', '.join(keys)}")
+    from ..linear.point import OperatingPoint
+
+    parts = []
+    for key, listed in (("x0", "state_names"), ("u0", "input_names"), ("y0", "output_names")):
+        vec = arrays[key]
+        if vec.ndim != 1 or vec.shape[0] != len(names[listed]) or vec.dtype.kind not in "fiu":
+            raise fail(f"{key} must be a 1-d array of {len(names[listed])} numbers (one per "
+                       f"name in {listed}); got shape {vec.shape}, dtype {vec.dtype}")
+        _finite(vec, key, fail)
+        parts.append(dict(zip(names[listed], vec.astype(float).tolist())))
+    return OperatingPoint(parts[0], parts[1], parts[2], how=str(arrays["operating_point"]))
+
+
 def _expected(key: str) -> bool:
-    if key in _UNITS:
-        return True
-    if key in "ABCD" or key in _NAMES or key in ("parameter_values", "model_name", "format",
-                                                 "format_version"):
+    if key in "ABCD" or key in _NAMES or key in _POINT or key in _UNITS or key in (
+            "parameter_values", "model_name", "format", "format_version"):
         return bool(key)
     head, _, part = key.partition("_")
     return head in ("A", "B", "C", "D") and part in _SPARSE_PARTS

@@ -358,6 +358,10 @@ def port_hamiltonian(model: StateEquations) -> PortHamiltonian:
     if quadratic:
         try:
             ss = state_space(aux)
+            if ss.operating_point is not None:      # a form in deviations is not the model's
+                raise NonlinearModelError(
+                    "its equations have constant terms or inputs entering nonlinearly; the "
+                    "port-Hamiltonian form needs them linear in the states and inputs")
         except NonlinearModelError as exc:
             raise PortHamiltonianError(f"model {model.name!r}: {exc}") from exc
         A, B = ss.A, ss.B

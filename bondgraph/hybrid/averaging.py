@@ -27,15 +27,29 @@ A buck converter: the averaged duty-to-output transfer function is
 (('d',), (Vin*d - q_C/C, p_L/L - q_C/(C*R)))
 >>> sympy.factor(avg.transfer_function("d", "v").expr)
 R*Vin/(C*L*R*s**2 + L*s + R)
+
+With the source voltage an input too (``inputs=("Vin",)``), ``d Vin`` makes the
+averaged model nonlinear in its inputs: its transfer functions are taken
+about the operating point, by default the symbolic one at ``d = d0``,
+``Vin = Vin0`` (control-to-output and line-to-output from one model):
+
+>>> avg2 = sm.average("d", active=Mode(on={"S"}, off={"D"}), passive=Mode(on={"D"}, off={"S"}),
+...                   inputs=("Vin",))
+>>> G = avg2.transfer_function("Vin", "v")
+>>> sympy.factor(G.expr)
+R*d0/(C*L*R*s**2 + L*s + R)
+>>> print(G.operating_point.note)
+deviations about the operating point x0: p_L = L*Vin0*d0/R, q_C = C*Vin0*d0; u0: Vin = Vin0, d = d0; y0: v = Vin0*d0
 """
 
 from __future__ import annotations
 
 import dataclasses
-from typing import Mapping, Optional, Union
+from typing import Mapping, Optional, Sequence, Union
 
 import sympy
 
+from ..elements import Se, Sf
 from ..errors import OutputError
 from ..model import Model
 from .errors import ModeError
@@ -47,7 +61,7 @@ ModeLike = Union[Mode, Mapping]
 
 
 def average(sm: ModeSet, duty: Union[str, sympy.Symbol], active: ModeLike, passive: ModeLike,
-            *, name: Optional[str] = None) -> Model:
+            *, name: Optional[str] = None, inputs: Sequence[str] = ()) -> Model:
     """The state-space average of two modes of ``sm`` weighted by the duty cycle.
 
     Parameters
@@ -59,6 +73,10 @@ def average(sm: ModeSet, duty: Union[str, sympy.Symbol], active: ModeLike, passi
         The two modes; switches not named keep their built state.
     name : str, optional
         The averaged model's name (default ``'<name>_avg'``).
+    inputs : sequence of str, optional
+        Constant sources (``Se("Vin", value=Vin)``) made inputs named after
+        the element, so that the line-to-output transfer function comes from
+        the same averaged model as the control-to-output one.
 
     Returns
     -------
@@ -72,6 +90,8 @@ def average(sm: ModeSet, duty: Union[str, sympy.Symbol], active: ModeLike, passi
         The two modes do not have the same states (discontinuous conduction:
         a storage element changes causality), or the duty name clashes.
     """
+    if inputs:
+        sm = _with_inputs(sm, inputs)
     a, p = (_mode(sm, m) for m in (active, passive))
     ma, mp = sm.derived(a).user, sm.derived(p).user
     if ma.states != mp.states:
@@ -95,6 +115,29 @@ def average(sm: ModeSet, duty: Union[str, sympy.Symbol], active: ModeLike, passi
     derivs = tuple(dict.fromkeys(ma.input_derivatives + mp.input_derivatives))
     return dataclasses.replace(ma, name=name or f"{sm.name}_avg", inputs=inputs, rhs=rhs,
                                output_exprs=outs, input_derivatives=derivs, descriptor=None)
+
+
+def _with_inputs(sm: ModeSet, names: Sequence[str]) -> ModeSet:
+    """``sm`` rebuilt with the constant sources ``names`` made inputs (their value dropped)."""
+    if isinstance(names, str) or not all(isinstance(n, str) for n in names):
+        raise ModeError(f"inputs: expected a sequence of source names, got {names!r}")
+    by_name = {el.name: el for el in sm.flat.elements}
+    swap = {}
+    for n in names:
+        el = by_name.get(n)
+        if not isinstance(el, (Se, Sf)):
+            raise ModeError(f"inputs: {n!r} is not a source (Se or Sf) of model {sm.name!r}; "
+                            "its sources are "
+                            f"{', '.join(e.name for e in sm.flat.elements if isinstance(e, (Se, Sf))) or 'none'}")
+        if el.value is None:
+            raise ModeError(f"inputs: {el.label()} is already an input")
+        if el.modulated:
+            raise ModeError(f"inputs: {el.label()} is modulated (value={el.value}); only a "
+                            "constant source can be made an input")
+        swap[n] = dataclasses.replace(el, value=None)
+    flat = dataclasses.replace(sm.flat, elements=tuple(swap.get(el.name, el)
+                                                       for el in sm.flat.elements))
+    return type(sm)(flat, sm.user_outputs)
 
 
 def _mode(sm: ModeSet, m: ModeLike) -> Mode:

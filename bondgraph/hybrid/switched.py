@@ -80,9 +80,9 @@ class SwitchedModel(ModeSet):
                         rtol=rtol, atol=atol, max_step=max_step)
 
     def average(self, duty, active: ModeLike, passive: ModeLike, *,
-                name: Optional[str] = None) -> Model:
+                name: Optional[str] = None, inputs=()) -> Model:
         """State-space average of two modes; see :func:`bondgraph.hybrid.average`."""
-        return average(self, duty, active, passive, name=name)
+        return average(self, duty, active, passive, name=name, inputs=inputs)
 
 
 def derive_switched(graph: Union[BondGraph, FlatGraph], outputs: Optional[Mapping] = None) -> SwitchedModel:

@@ -112,13 +112,15 @@ def refuse_implicit(model: StateEquations, what: str) -> None:
 
 @with_paused_gc
 def linear_form(exprs, x, u, model: StateEquations, what: str, lhs: str, ud=None, *,
-                implicit_ok: bool = False):
+                implicit_ok: bool = False, offsets: bool = False):
     """Sparse ``(M_x, M_u)`` with ``exprs = M_x x + M_u u``; checks linearity.
 
     With ``ud`` (input-derivative symbols) also ``M_ud``, the coefficients
     of those symbols, which are otherwise refused.  An implicit model is
     refused unless ``implicit_ok`` (then ``x`` lists its algebraic unknowns
-    after the states).
+    after the states).  With ``offsets`` the constant terms (a constant
+    source: gravity, an ambient temperature) are returned as one more column
+    matrix ``k`` (``exprs = M_x x + M_u u + k``) instead of being refused.
 
     One pass over the terms of each expression: a term that is a product
     containing exactly one state or input (to the first power) gives its
@@ -135,6 +137,16 @@ def linear_form(exprs, x, u, model: StateEquations, what: str, lhs: str, ud=None
     variables = set(col)
     bad = (set(model.input_derivatives) - set(ud_cols)) | {T_SYM}
     entries: tuple[dict, dict, dict] = ({}, {}, {})
+    constant: dict = {}
+
+    def refuse_constant(i, c):
+        if offsets:
+            constant[(i, 0)] = constant.get((i, 0), 0) + c
+            return
+        raise NonlinearModelError(
+            f"model {model.name!r}: {what} {i + 1} ({lhs}) has the constant term {c}; "
+            "its linear forms are taken about the operating point (see "
+            "bondgraph.linear.offsets)")
     for i, ex in enumerate(exprs):
         terms = sympy.Add.make_args(ex)
         term_free = [_free_symbols(term) for term in terms]
@@ -152,16 +164,12 @@ def linear_form(exprs, x, u, model: StateEquations, what: str, lhs: str, ud=None
             )
         if not free & variables:
             if ex != 0 and not is_zero(ex):
-                raise NonlinearModelError(
-                    f"model {model.name!r}: {what} {i + 1} ({lhs}) has the constant term {ex}; "
-                    "model constant loads as sources (inputs)")
+                refuse_constant(i, ex)
             continue
         coeffs: dict[sympy.Symbol, list] = {}
         constants = [term for term, tfree in zip(terms, term_free) if not tfree & variables]
         if constants and not is_zero(sympy.Add(*constants)):
-            raise NonlinearModelError(
-                f"model {model.name!r}: {what} {i + 1} ({lhs}) has the constant term "
-                f"{sympy.Add(*constants)}; model constant loads as sources (inputs)")
+            refuse_constant(i, sympy.Add(*constants))
         for term, tfree in zip(terms, term_free):
             vs = tfree & variables
             if not vs:
@@ -187,19 +195,19 @@ def linear_form(exprs, x, u, model: StateEquations, what: str, lhs: str, ud=None
                 coeffs.setdefault(v, []).append(d)
             rest_term = term.xreplace({v: 0 for v in vs})
             if rest_term != 0 and not is_zero(rest_term):
-                raise NonlinearModelError(
-                    f"model {model.name!r}: {what} {i + 1} ({lhs}) has the constant term "
-                    f"{rest_term}; model constant loads as sources (inputs)")
+                refuse_constant(i, rest_term)
         for v, parts in coeffs.items():
             c = parts[0] if len(parts) == 1 else sympy.Add(*parts)
             if c != 0:
                 k, j = col[v]
                 entries[k][(i, j)] = c
-    mats = (sparse_matrix(len(exprs), len(x), entries[0]),
-            sparse_matrix(len(exprs), len(u), entries[1]))
-    if ud is None:
-        return mats
-    return mats + (sparse_matrix(len(exprs), len(ud_cols), entries[2]),)
+    mats: tuple = (sparse_matrix(len(exprs), len(x), entries[0]),
+                   sparse_matrix(len(exprs), len(u), entries[1]))
+    if ud is not None:
+        mats += (sparse_matrix(len(exprs), len(ud_cols), entries[2]),)
+    if offsets:
+        mats += (sparse_matrix(len(exprs), 1, {k: v for k, v in constant.items() if v != 0}),)
+    return mats
 
 
 def _free_symbols(e: sympy.Basic) -> set:

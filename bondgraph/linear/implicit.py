@@ -50,13 +50,20 @@ __all__ = ["equilibrium", "implicit_equilibrium"]
 
 def equilibrium(model: "Model", values: ParameterValues, inputs: Optional[Mapping] = None, *,
                 guess: Optional[Mapping] = None, fixed: Optional[Mapping] = None,
-                tol: float = 1e-10, exact: bool = True) -> Equilibrium:
+                tol: float = 1e-10, exact: bool = True,
+                totals: Optional[Mapping] = None) -> Equilibrium:
     """:func:`implicit_equilibrium` for an implicit model, else
-    :func:`bondgraph.linear.operating.equilibrium` (same arguments)."""
+    :func:`bondgraph.linear.operating.equilibrium` (same arguments; ``totals`` only for an
+    explicit model)."""
     if model.algebraic:
+        if totals:
+            raise EquilibriumError(f"model {model.name!r}: totals= is not supported for an "
+                                   "implicit model (algebraic unknowns "
+                                   f"{', '.join(model.algebraic_names)}); fix the conserved "
+                                   "states with fixed= instead")
         return implicit_equilibrium(model, values, inputs, guess=guess, fixed=fixed, tol=tol)
     return explicit_equilibrium(model, values, inputs, guess=guess, fixed=fixed, tol=tol,
-                                exact=exact)
+                                exact=exact, totals=totals)
 
 
 def implicit_equilibrium(model: "Model", values: ParameterValues, inputs: Optional[Mapping] = None,

@@ -140,7 +140,8 @@ def _named(model: "Model", given: Optional[Mapping], symbols, what: str) -> dict
 
 def equilibrium(model: "Model", values: ParameterValues, inputs: Optional[Mapping] = None, *,
                 guess: Optional[Mapping] = None, fixed: Optional[Mapping] = None,
-                tol: float = 1e-10, exact: bool = True) -> Equilibrium:
+                tol: float = 1e-10, exact: bool = True,
+                totals: Optional[Mapping] = None) -> Equilibrium:
     """Solve ``f(x, u) = 0`` for the states (trim).
 
     Parameters
@@ -165,6 +166,14 @@ def equilibrium(model: "Model", values: ParameterValues, inputs: Optional[Mappin
     exact : bool
         Try sympy's exact solver first for up to :data:`EXACT_MAX_STATES`
         free states of polynomial equations.
+    totals : mapping, optional
+        Totals of conserved quantities (chemical moieties, a floating charge):
+        a key is a state name, a tuple of state names (their sum) or a sympy
+        expression linear in the states; each replaces one equation the
+        conservation makes dependent
+        (:func:`bondgraph.linear.conserved.totals_equations`).  The stability
+        verdict then leaves out one zero eigenvalue per total (the
+        conserved directions).
 
     Returns
     -------
@@ -223,6 +232,17 @@ def equilibrium(model: "Model", values: ParameterValues, inputs: Optional[Mappin
     eqs_p = [ex.xreplace(pvals) for ex in exprs]
     _trim.check_finite_equations(model, eqs_p, pvals, where)
     states, ins = list(model.states), list(model.inputs)
+    true_system = None
+    if totals:
+        from .conserved import totals_equations
+
+        true_system = _trim.Equations(eqs_p, states, ins, [u0[u] for u in ins], where)
+        eqs_p, _ = totals_equations(model, eqs_p, totals, u0)
+        eqs_p = [e.xreplace(pvals) for e in eqs_p]
+        unknown = set().union(*(e.free_symbols for e in eqs_p)) - set(states) - set(ins)
+        if unknown:
+            raise EquilibriumError(f"{where}totals: give numbers (or parameters with values), "
+                                   f"not {', '.join(sorted(map(str, unknown)))}")
     system = _trim.Equations(eqs_p, states, ins, [u0[u] for u in ins], where)
     free_idx = [states.index(x) for x in free]
     x_start = np.array([held.get(x, start.get(x, 0.0)) for x in states])
@@ -262,8 +282,12 @@ def equilibrium(model: "Model", values: ParameterValues, inputs: Optional[Mappin
             f"f|f| at f = 0): the Jacobian of the state equations is "
             f"singular there (condition number {found.condition:.3g} after scaling), so "
             f"{', '.join(loose)} are not determined to first order; hold states that can "
-            "take any value with fixed={...}")
-    eig, verdict = _trim.stability(system, found.x)
+            "take any value with fixed={...}"
+            + ("" if totals else _conservation_hint(model)))
+    if true_system is None:
+        eig, verdict = _trim.stability(system, found.x)
+    else:
+        eig, verdict = _conserved_stability(true_system, found.x, len(totals or {}))
     jac_kind = ("finite differences" if system.jacobian_kind != "symbolic" else
                 "symbolic" + (" (finite differences where it is not finite)"
                               if system.used_fd else ""))
@@ -273,6 +297,29 @@ def equilibrium(model: "Model", values: ParameterValues, inputs: Optional[Mappin
                        how=how, scaled_residual=found.scaled_residual,
                        condition=found.condition, jacobian=jac_kind,
                        eigenvalues=eig, stability=verdict)
+
+
+def _conservation_hint(model) -> str:
+    from .conserved import conservation_hint
+    return conservation_hint(model)
+
+
+def _conserved_stability(system, x, k: int) -> tuple:
+    """Eigenvalues of the true ``df/dx`` and the verdict without its ``k`` zero eigenvalues
+    (one per conserved total: directions the totals hold fixed)."""
+    from . import trim as _trim
+
+    eig, verdict = _trim.stability(system, x)
+    if k and eig:
+        rest = sorted(eig, key=abs)[k:]
+        size = max((abs(v) for v in eig), default=0.0)
+        if not rest or all(v.real < -1e-9 * size for v in rest):
+            verdict = "stable"
+        elif any(v.real > 1e-9 * size for v in rest):
+            verdict = "unstable"
+        else:
+            verdict = "marginal"
+    return eig, verdict
 
 
 def _failure(where, states, free, x_start, failure, tried, tol, held) -> str:

@@ -15,6 +15,7 @@ Examples
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Any
 
 import sympy
 
@@ -95,6 +96,9 @@ class SymbolicStateSpace(SignalCounts):
     #: the model's elements whose parameters have rules (a mass positive): :meth:`subs`
     #: checks them at the values it is given (:mod:`bondgraph.elements.rules`)
     value_checks: tuple = field(default=(), compare=False, repr=False)
+    #: the operating point the form was taken about (deviations ``x - x0``, ``u - u0``,
+    #: ``y - y0``): set for a model with constant sources or a linearization, else None
+    operating_point: Any = field(default=None, compare=False, repr=False)
 
     def __post_init__(self) -> None:
         for label in "ABCD":
@@ -148,7 +152,10 @@ class SymbolicStateSpace(SignalCounts):
                                   self.state_names, self.input_names, self.output_names, f(self.E),
                                   known_parameters=self.known_parameters,
                                   D_derivatives=tuple(f(M) for M in self.D_derivatives),
-                                  value_checks=self.value_checks)
+                                  value_checks=self.value_checks,
+                                  operating_point=(None if self.operating_point is None else
+                                                   self.operating_point.subs(
+                                                       {p.name: v for p, v in given.items()})))
 
     def to_latex(self) -> str:
         r"""Matrix form ``E x' = A x + B u``, ``y = C x + D u`` in LaTeX.

@@ -39,8 +39,35 @@ def linear_plant(model: StateEquations, point: Equilibrium | Mapping, inputs: Op
     """Numeric plant of ``model`` linearized at ``point`` (see :meth:`Model.linearize`).
 
     ``equilibrium=False`` linearizes about a point that is not an equilibrium
-    (the drift ``f(x0, u0)`` is dropped) instead of refusing it.
+    (the drift ``f(x0, u0)`` is dropped) instead of refusing it.  The plant's
+    ``operating_point`` holds ``x0``, ``u0`` and the outputs there.
     """
+    plant = _linear_plant(model, point, inputs, values, tol, equilibrium)
+    return plant.with_operating_point(_point_of(model, point, inputs, values, equilibrium))
+
+
+def _point_of(model: StateEquations, point, inputs, values, equilibrium: bool):
+    """The numeric :class:`~bondgraph.linear.OperatingPoint` of ``point``."""
+    from ..linear import numeric_operating_point
+
+    if isinstance(point, Equilibrium):
+        return numeric_operating_point(model, point)
+    where = f"model {model.name!r}: "
+    params = match_values(model.parameters, values, known=model.known_parameters, where=where)
+    x0 = {str(getattr(k, "name", k)): real_value(v, str(getattr(k, "name", k)), where)
+          for k, v in dict(point or {}).items()}
+    u0 = {str(getattr(k, "name", k)): real_value(v, str(getattr(k, "name", k)), where)
+          for k, v in dict(inputs or {}).items()}
+    eq = Equilibrium({s.name: x0.get(s.name, 0.0) for s in model.states},
+                     {u.name: u0.get(u.name, 0.0) for u in model.inputs},
+                     {p.name: real_value(v, p.name, where) for p, v in params.items()},
+                     method="given", how="given" if equilibrium else
+                     "given (not checked as an equilibrium)")
+    return numeric_operating_point(model, eq)
+
+
+def _linear_plant(model: StateEquations, point: Equilibrium | Mapping, inputs: Optional[Mapping],
+                  values: ParameterValues, tol: float, equilibrium: bool = True) -> Any:
     if model.algebraic:       # implicit: the implicit-function theorem
         return implicit_plant(model, point, inputs, values, tol, equilibrium=equilibrium)
     where = f"model {model.name!r}: "
@@ -110,7 +137,7 @@ def _beside_mean(model: StateEquations, x0: Mapping, u0: Mapping, values: Parame
     plants = []
     for sgn in (1.0, -1.0):
         v = dict(zip(names, (base + sgn * h).tolist()))
-        plants.append(linear_plant(model, {s.name: v[s.name] for s in model.states},
+        plants.append(_linear_plant(model, {s.name: v[s.name] for s in model.states},
                                    {u.name: v[u.name] for u in model.inputs}, values, tol,
                                    equilibrium=False))
     a, b = plants

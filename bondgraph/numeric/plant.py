@@ -75,6 +75,7 @@ from ..elements.fields.algebra import check_definite
 from ..elements.rules import check_model_values
 from ._linalg import freeze
 from .batch import BatchStateSpace, SparseBatchStateSpace
+from ..errors import NonlinearModelError
 from .errors import NotPicklableError, NumericError, ParameterValueError
 from .resolve import ParameterValues, resolve_batch, resolve_parameters
 from .sparse import SPARSE_THRESHOLD, Pattern
@@ -182,9 +183,18 @@ class NumericModel(_CompiledModel):
         self._sparse = sparse
         #: a linear implicit model: its algebraic unknowns are eliminated after evaluation
         self._implicit = bool(model.algebraic)
-        mats, self._labels = implicit_blocks(model) if self._implicit else _reduced_form(model)
+        #: constant sources: the constant columns c, d of x' = A x + B u + c, y = C x + D u + d
+        #: are compiled after the other matrices, for the operating point of each plant
+        self._affine = False
+        try:
+            mats, self._labels = implicit_blocks(model) if self._implicit else _reduced_form(model)
+        except NonlinearModelError as exc:
+            if self._implicit:
+                raise
+            mats, self._labels = _offset_form(model, exc)
+            self._affine = True
         #: number of D_derivatives (and state_shift) matrices: 0 for an ordinary plant
-        self._order = (len(mats) - 4) // 2
+        self._order = (len(mats) - 4 - 2 * self._affine) // 2
         patterns, var_pos, exprs, const_pos, const_val = [], [], [], [], []
         pos = 0
         for k, M in enumerate(mats):
@@ -286,6 +296,8 @@ class NumericModel(_CompiledModel):
                            definite=el.definite)
 
     def _split(self, mats: list) -> tuple:
+        if self._affine:
+            mats = mats[:-2]
         d = self._order
         return tuple(mats[:4]) + (tuple(mats[4:4 + d]), tuple(mats[4 + d:]))
 
@@ -324,9 +336,37 @@ class NumericModel(_CompiledModel):
             A, B, C, D = reduce(self._model, A, B, C, D, as_sparse)
             A, B, C, D = ((sp.csr_array(M) for M in (A, B, C, D)) if as_sparse
                           else (freeze(np.ascontiguousarray(M)) for M in (A, B, C, D)))
+        params = dict(zip(self.parameter_names, vec.tolist()))
+        point = self._operating_point(A, C, mats[-2:], params) if self._affine else None
         return NumericStateSpace(A, B, C, D, self.state_names, self.input_names, self.output_names,
-                                 dict(zip(self.parameter_names, vec.tolist())), self._model.name,
-                                 Dd, S)
+                                 params, self._model.name, Dd, S, operating_point=point)
+
+    def _operating_point(self, A, C, offsets, params):
+        """``x0 = -A^-1 c`` and ``y0 = C x0 + d`` at ``u0 = 0`` (the constant sources alone)."""
+        from ..linear import OperatingPoint
+
+        c, d = (np.asarray(M.toarray() if sp.issparse(M) else M, dtype=float).reshape(-1)
+                for M in offsets)
+        with np.errstate(all="ignore"):
+            try:
+                x0 = (sp.linalg.spsolve(sp.csc_array(A), -c) if sp.issparse(A)
+                      else _scaled_solve(np.asarray(A), -c)) if c.size else c
+            except (np.linalg.LinAlgError, RuntimeError):
+                x0 = np.full(c.shape, np.nan)
+            x0 = np.atleast_1d(np.asarray(x0, dtype=float))
+            y0 = np.asarray(C @ x0, dtype=float).reshape(-1) + d
+        if not (np.all(np.isfinite(x0)) and np.all(np.isfinite(y0))):
+            vals = ", ".join(f"{n}={v:g}" for n, v in params.items())
+            raise ParameterValueError(
+                f"model {self._model.name!r}: its constant sources have no isolated "
+                f"equilibrium at {vals} (A is singular: a conserved quantity, or a state no "
+                "equation holds, such as a free mass's position); the plant in deviations "
+                "needs one: give the totals with model.operating_point(values=..., "
+                "totals=...) and take model.linearize(...) there")
+        return OperatingPoint(dict(zip(self.state_names, x0.tolist())),
+                              dict.fromkeys(self.input_names, 0.0),
+                              dict(zip(self.output_names, y0.tolist())),
+                              how="exact: x0 = -A^-1 c at u0 = 0 (the constant sources alone)")
 
     def batch(self, values: Union[ParameterValues, np.ndarray], *,
               sparse: Optional[bool] = None) -> Union[BatchStateSpace, SparseBatchStateSpace]:
@@ -370,12 +410,15 @@ class NumericModel(_CompiledModel):
             A, B, C, D = (freeze(np.ascontiguousarray(M))
                           for M in reduce_batch(self._model, A, B, C, D))
             return BatchStateSpace(A, B, C, D, *names, arr, self._model.name, (), ())
+        patterns = self._patterns[:len(self._patterns) - 2 * self._affine]
+        if self._affine:        # the matrices only: a batch holds no operating point
+            vals = vals[:, :self._offsets[-3]]
         if as_sparse:
-            return SparseBatchStateSpace(self._patterns, freeze(vals), *names, arr,
-                                         self._model.name, self._order)
+            return SparseBatchStateSpace(patterns, freeze(vals), *names, arr, self._model.name,
+                                         self._order)
         off = self._offsets
-        mats = [freeze(p.to_dense(vals[:, off[k]:off[k + 1]])) for k, p in enumerate(self._patterns)]
-        A, B, C, D, Dd, S = self._split(mats)
+        mats = [freeze(p.to_dense(vals[:, off[k]:off[k + 1]])) for k, p in enumerate(patterns)]
+        A, B, C, D, Dd, S = self._split(mats + [None, None] * self._affine)
         return BatchStateSpace(A, B, C, D, *names, arr, self._model.name, Dd, S)
 
 
@@ -400,6 +443,35 @@ def _reduced_form(model: StateEquations) -> tuple[list, list[str]]:
     labels = (["A", "B", "C", "D"] + [f"D_derivatives[{k}]" for k in range(K)]
               + [f"state_shift[{k}]" for k in range(K)])
     return [sympy.ImmutableSparseMatrix(M) for M in mats], labels
+
+
+def _scaled_solve(A: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``A^-1 b`` with ``A`` equilibrated by rows and columns first (units of 1e-14 and 1e7
+    side by side, and no rounding residue where the answer is 0)."""
+    from ..linear.trim import equilibrate
+
+    r, c = equilibrate(A)
+    return c * np.linalg.solve(A * r[:, None] * c[None, :], r * b)
+
+
+def _offset_form(model: StateEquations, exc: NonlinearModelError) -> tuple[list, list[str]]:
+    """``A, B, C, D, c, d`` of a model linear but for constant terms (constant sources),
+    else ``exc`` with the way to its plant about an operating point."""
+    from ..linear.forms import linear_form
+
+    try:
+        if model.input_derivatives:
+            raise exc
+        A, B, c = linear_form(model.rhs, model.states, model.inputs, model, "state equation",
+                              "x'", offsets=True)
+        C, D, d = linear_form(model.output_exprs, model.states, model.inputs, model, "output",
+                              "y", offsets=True)
+    except NonlinearModelError:
+        raise NonlinearModelError(
+            f"{exc}; its plant about an operating point is model.linearize(values=..., "
+            "u0={...}) (the equilibrium is found there)") from None
+    return [A, B, C, D, c, d], ["A", "B", "C", "D", "c (constant terms of x')",
+                                "d (constant terms of y)"]
 
 
 def _definite_checks(model: StateEquations, params: Sequence[sympy.Symbol]) -> tuple:

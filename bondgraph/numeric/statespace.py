@@ -12,6 +12,8 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
+
 from collections import Counter
 from dataclasses import dataclass, field
 from types import MappingProxyType
@@ -111,6 +113,11 @@ class NumericStateSpace(SignalCounts):
         Empty (the default) when the model declares none.  Kept by
         :meth:`to_control` (as its ``units`` attribute) and written by the
         ``.mat`` and JSON exports.
+    operating_point : OperatingPoint, optional
+        The point ``x0, u0, y0`` the plant was taken about (its matrices act on
+        ``x - x0``, ``u - u0`` and give ``y - y0``): set for a linearization
+        and for a model with constant sources (see
+        :class:`bondgraph.linear.OperatingPoint`); written by every export.
 
     Raises
     ------
@@ -144,6 +151,7 @@ class NumericStateSpace(SignalCounts):
     D_derivatives: tuple[Any, ...] = ()
     state_shift: tuple[Any, ...] = ()
     units: Mapping[str, str] = field(default_factory=dict)
+    operating_point: Any = None
 
     def __post_init__(self) -> None:
         names = tuple(tuple(str(s) for s in getattr(self, f)) for f in
@@ -185,7 +193,7 @@ class NumericStateSpace(SignalCounts):
         return (NumericStateSpace, (self.A, self.B, self.C, self.D, self.state_names,
                                     self.input_names, self.output_names, dict(self.parameters),
                                     self.name, self.D_derivatives, self.state_shift,
-                                    dict(self.units)))
+                                    dict(self.units), self.operating_point))
 
     @property
     def is_sparse(self) -> bool:
@@ -218,7 +226,18 @@ class NumericStateSpace(SignalCounts):
                                  self.state_names, self.input_names, self.output_names,
                                  dict(self.parameters), self.name,
                                  tuple(conv(M) for M in self.D_derivatives),
-                                 tuple(conv(M) for M in self.state_shift), dict(self.units))
+                                 tuple(conv(M) for M in self.state_shift), dict(self.units),
+                                 self.operating_point)
+
+    def with_operating_point(self, point: Any) -> "NumericStateSpace":
+        """This plant with ``operating_point`` set to ``point`` (an
+        :class:`~bondgraph.linear.OperatingPoint` or None); its units are the plant's."""
+        if point is not None and self.units:
+            point = dataclasses.replace(point, units={**self.units, **point.units})
+        return NumericStateSpace(self.A, self.B, self.C, self.D, self.state_names,
+                                 self.input_names, self.output_names, dict(self.parameters),
+                                 self.name, self.D_derivatives, self.state_shift,
+                                 dict(self.units), point)
 
     def eigenvalues(self, k: Optional[int] = None, *, sigma: complex = 0.0,
                     dense: str = "warn") -> np.ndarray:
@@ -363,7 +382,10 @@ class NumericStateSpace(SignalCounts):
         return NumericStateSpace(self.A, self.B, self.C, self.D, self.state_names,
                                  self.input_names, self.output_names, dict(self.parameters),
                                  self.name, self.D_derivatives, self.state_shift,
-                                 {**self.units, **dict(units)})
+                                 {**self.units, **dict(units)},
+                                 None if self.operating_point is None else dataclasses.replace(
+                                     self.operating_point,
+                                     units={**self.operating_point.units, **dict(units)}))
 
     def to_tf(self, *, input: Optional[str] = None, output: Optional[str] = None,
               dense: str = "warn") -> control.TransferFunction:

@@ -48,24 +48,40 @@ class LinearForm:
     inputs: tuple[str, ...]
     outputs: tuple[str, ...]
     parameters: tuple[sympy.Symbol, ...]
+    #: the operating point of a model with constant sources (its deviation form), else None
+    operating_point: object = None
 
 
 def linear_form(model: Model) -> LinearForm:
-    """The model's linear form; a clear error for a model that is not linear."""
+    """The model's linear form; a clear error for a model that is not linear.
+
+    A model with constant sources gives its form in deviations about its
+    operating point (:meth:`bondgraph.Model.state_space`), kept in
+    ``operating_point``: the same matrices, so the same structural properties.
+    """
     if not isinstance(model, Model):
         raise StructureError(f"expected a bondgraph.Model (from bg.derive), got "
                              f"{type(model).__name__}")
+    point = None
     try:
         A, Bs, C, Ds = derivative_form(model)
     except BondGraphError as err:
-        raise StructureError(f"model {model.name!r}: structural analysis needs a linear model "
-                             f"({err})") from err
+        # constant sources (gravity, an ambient) or inputs entering nonlinearly: the form in
+        # deviations about the operating point (the same A, B, C, D for constant sources)
+        try:
+            ss = model.state_space()
+        except BondGraphError:
+            ss = None
+        if ss is None or ss.operating_point is None:
+            raise StructureError(f"model {model.name!r}: structural analysis needs a linear "
+                                 f"model ({err})") from err
+        A, Bs, C, Ds, point = ss.A, (ss.B,), ss.C, (ss.D,), ss.operating_point
     params = set()
     for M in (A, C) + tuple(Bs) + tuple(Ds):
         params |= M.free_symbols
     return LinearForm(sympy.Matrix(A), tuple(sympy.Matrix(B) for B in Bs), sympy.Matrix(C),
                       tuple(sympy.Matrix(D) for D in Ds), model.state_names, model.input_names,
-                      model.output_names, tuple(sorted(params, key=lambda s: s.name)))
+                      model.output_names, tuple(sorted(params, key=lambda s: s.name)), point)
 
 
 def random_points(params: Sequence[sympy.Symbol], count: int = 2, *, seed: int = 0

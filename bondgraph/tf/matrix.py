@@ -61,6 +61,8 @@ class TransferMatrix:
     known_parameters: tuple[str, ...] = field(default=(), compare=False, repr=False)
     #: exact ring data (converter, den s-dict, numerator s-dicts) for fast entries
     _raw: Any = field(default=None, compare=False, repr=False, hash=False)
+    #: the operating point of a model with constant sources (deviations about it)
+    operating_point: Any = field(default=None, compare=False, repr=False, hash=False)
 
     @property
     def shape(self) -> tuple[int, int]:
@@ -94,7 +96,8 @@ class TransferMatrix:
         else:
             G = _cancel_pair(self.nums[i][j], self.den, self.input_names[j],
                              self.output_names[i], self.normalize)
-        return G._with_metadata(known_parameters=self.known_parameters)
+        return G._with_metadata(known_parameters=self.known_parameters,
+                                operating_point=self.operating_point)
 
     def to_latex(self, *, lhs: bool | str = True) -> str:
         r"""``G(s) = \frac{1}{den(s)} [num_ij(s)]`` (rows: outputs, columns: inputs).

@@ -18,7 +18,7 @@ array([-2.])
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
-from typing import Mapping, Sequence
+from typing import Any, Mapping, Sequence
 
 import numpy as np
 import sympy as sp
@@ -76,17 +76,21 @@ class SymbolicTF:
     known_parameters: tuple[str, ...] = field(default=(), compare=False, repr=False)
     #: the model's fields, each checked (``check_values``) at the values :meth:`subs` is given
     value_checks: tuple = field(default=(), compare=False, repr=False)
+    #: the operating point of a model with constant sources (or nonlinear in its inputs):
+    #: ``G`` maps the deviation ``u - u0`` to ``y - y0`` (see :mod:`bondgraph.linear.point`)
+    operating_point: Any = field(default=None, compare=False, repr=False)
 
     @classmethod
     def _deferred(cls, source: Deferred, input_name: str, output_name: str, *,
                   known_parameters: tuple[str, ...] = (),
-                  value_checks: tuple = ()) -> "SymbolicTF":
+                  value_checks: tuple = (), operating_point: Any = None) -> "SymbolicTF":
         """A transfer function whose sympy ``num``/``den`` are built on first access
         (see :mod:`bondgraph.tf._deferred`)."""
         obj = object.__new__(cls)
         for name, value in (("input_name", input_name), ("output_name", output_name),
                             ("known_parameters", known_parameters),
-                            ("value_checks", value_checks), ("_source", source)):
+                            ("value_checks", value_checks),
+                            ("operating_point", operating_point), ("_source", source)):
             object.__setattr__(obj, name, value)
         return obj
 
@@ -104,7 +108,7 @@ class SymbolicTF:
 
     def __reduce__(self):
         return (type(self), (self.num, self.den, self.input_name, self.output_name,
-                             self.known_parameters, self.value_checks))
+                             self.known_parameters, self.value_checks, self.operating_point))
 
     def _with_metadata(self, **changes) -> "SymbolicTF":
         """``dataclasses.replace`` of ``known_parameters``/``value_checks`` that keeps
@@ -112,7 +116,8 @@ class SymbolicTF:
         source = self.__dict__.get("_source")
         if source is None or "num" in self.__dict__:
             return replace(self, **changes)
-        meta = {"known_parameters": self.known_parameters, "value_checks": self.value_checks}
+        meta = {"known_parameters": self.known_parameters, "value_checks": self.value_checks,
+                "operating_point": self.operating_point}
         meta.update(changes)
         return SymbolicTF._deferred(source, self.input_name, self.output_name, **meta)
 

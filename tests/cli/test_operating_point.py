@@ -131,10 +131,12 @@ def test_pendulum_trim_under_a_torque(capsys, tmp_path, files):
 
 
 def test_hanging_mass_spring(capsys, tmp_path, files):
-    code, _, err = run(capsys, "export", files["hanging"], "-o", tmp_path / "out" / "p.json")
-    assert code == 1 and "--operating-point FILE" in err and "--trim" in err
-    plant, err = exported(capsys, tmp_path, files["hanging"], "--trim")
+    # without an option: the plant about the equilibrium of the constant weight, stored
     m, g, c, b = HANG["m"], HANG["g"], HANG["c"], HANG["b"]
+    plain, err = exported(capsys, tmp_path, files["hanging"])
+    assert "deviations about the operating point" in err
+    assert plain["operating_point"]["states"]["q_c"] == pytest.approx(m * g * c, rel=1e-12)
+    plant, err = exported(capsys, tmp_path, files["hanging"], "--trim")
     point = note_values(err)
     assert point["q_c"] == pytest.approx(m * g * c, rel=1e-12) and point["p_m"] == 0
     np.testing.assert_allclose(plant["A"], [[-b / m, -1 / c], [1 / m, 0.0]], rtol=1e-12)

@@ -65,7 +65,14 @@ def test_state_space_accepts_a_vanishing_constant_and_product():
     ss = m.state_space()
     assert sympy.simplify(ss.A[0, 0] + 1 / R) == 0 and ss.B[0, 0] == 1
     bad = Model(name="z2", augmented=None, states=(x,), inputs=(u,), output_names=("y",),
-                rhs=(-x / R + u + x * u / R,), output_exprs=(x,), input_derivatives=(),
+                rhs=(-x / R + u + x**2 / R,), output_exprs=(x,), input_derivatives=(),
                 descriptor=None, storage_states=1)
     with pytest.raises(bg.NonlinearModelError, match="nonlinear"):
         bad.state_space()
+    # x u/R is linear in the state at a nominal input u0: the form about that equilibrium
+    bilinear = Model(name="z3", augmented=None, states=(x,), inputs=(u,), output_names=("y",),
+                     rhs=(-x / R + u + x * u / R,), output_exprs=(x,), input_derivatives=(),
+                     descriptor=None, storage_states=1)
+    ss = bilinear.state_space()
+    u0 = ss.operating_point.inputs["u"]
+    assert sympy.simplify(ss.A[0, 0] - (u0 - 1) / R) == 0
