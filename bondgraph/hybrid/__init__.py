@@ -26,8 +26,8 @@ from .elements import ControlledSwitch, Diode, Switch, SwitchElement, pwm
 from .junctions import SwitchedOne, SwitchedZero
 from .errors import ChatteringError, EventBudgetError, HybridError, ModeError
 from .modes import Mode, ModeModel, ModeSet
-from .switched import SwitchedModel, derive_switched
-from .events import SwitchEvent, SwitchedResult, simulate
+from .switched import SwitchedModel, derive_switched, simulate
+from .events import SwitchEvent, SwitchedResult
 from .averaging import average
 
 __all__ = [

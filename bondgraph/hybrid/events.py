@@ -55,6 +55,7 @@ from ..parameters import match_values, real_value
 from ..signals import Signal
 from ..signals import t as T_SYM
 from ._numeric import CompiledMode, EnergyMetric, integrated
+from ._result import SwitchedResponse
 from .errors import ChatteringError, EventBudgetError, HybridError, ModeError
 from .modes import Mode, ModeSet
 
@@ -87,8 +88,10 @@ class SwitchEvent:
 
 
 @dataclass(frozen=True)
-class SwitchedResult:
-    """A switched simulation: samples, modes and events.
+class SwitchedResult(SwitchedResponse):
+    """A switched simulation: samples, modes and events; indexed by signal name
+    (``res["v"]``), with ``to_dataframe()`` and ``plot()`` (see
+    :class:`~bondgraph.numeric.result.TimeResponse`).
 
     Attributes
     ----------
@@ -104,6 +107,8 @@ class SwitchedResult:
     modes : tuple of Mode
         The modes visited, in order of first visit.
     events : tuple of SwitchEvent
+    inputs : dict of str to ndarray
+        The inputs at the samples (filled by :func:`bondgraph.simulate`).
     """
 
     t: np.ndarray
@@ -112,6 +117,7 @@ class SwitchedResult:
     mode_index: np.ndarray
     modes: tuple
     events: tuple
+    inputs: dict = field(default_factory=dict)
 
     @property
     def energy_loss(self) -> float:
