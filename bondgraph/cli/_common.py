@@ -69,7 +69,7 @@ def _values(defn, model, params_file: Optional[str], given: Optional[Mapping[str
         # model definition knows but this variant does not use accepted
         try:
             picked = match_values(model.parameters, given, known=model.known_parameters,
-                                  partial=True, where=f"params file '{params_file}': ")
+                                  partial=True, inputs=[s.name for s in model.inputs], where=f"params file '{params_file}': ")
         except ParameterValueError as exc:
             raise CLIError(str(exc)) from None
         values.update({p.name: v for p, v in picked.items()})

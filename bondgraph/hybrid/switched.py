@@ -25,6 +25,7 @@ from typing import Any, Mapping, Optional, Union
 
 import numpy as np
 
+from ..errors import ParameterValueError
 from ..flatten import FlatGraph
 from ..graph import BondGraph
 from ..model import Model
@@ -105,6 +106,14 @@ class SwitchedModel(ModeSet):
         if u is not None and not isinstance(u, Mapping):
             raise ModeError(f"model {self.name!r} is switched: give its inputs as u={{name: "
                             f"number or function of t}}; got {type(u).__name__}")
+        inputs = self._input_names()
+        if isinstance(values, Mapping):
+            for key in values:
+                name = getattr(key, "name", key)
+                if name in inputs:
+                    raise ParameterValueError(
+                        f"model {self.name!r}: {name!r} is an input of the model, not a parameter "
+                        "(give it as an input: u= when simulating)", unknown=(name,))
         chosen = {k: v for k, v in (("max_events", max_events), ("time_budget", time_budget),
                                     ("chatter_count", chatter_count), ("chatter_time", chatter_time),
                                     ("guard_tol", guard_tol)) if v is not None}
@@ -112,11 +121,16 @@ class SwitchedModel(ModeSet):
                                method=method, rtol=rtol, atol=atol, max_step=max_step, **chosen)
         return dataclasses.replace(res, inputs=self._input_histories(res.t, u))
 
-    def _input_histories(self, t, u) -> dict:
-        """Each input of the model at the times ``t`` (from the mapping ``u``)."""
+    def _input_names(self) -> tuple[str, ...]:
+        """The inputs of every consistent mode, in order of first appearance."""
         names: dict = {}
         for mode in self.modes:
             names.update(dict.fromkeys(s.name for s in self.derived(mode).full.inputs))
+        return tuple(names)
+
+    def _input_histories(self, t, u) -> dict:
+        """Each input of the model at the times ``t`` (from the mapping ``u``)."""
+        names = self._input_names()
         u = dict(u or {})
         out = {}
         for name in names:

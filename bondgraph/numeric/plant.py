@@ -308,7 +308,8 @@ class NumericModel(_CompiledModel):
         """
         as_sparse = self._is_sparse(sparse)
         vec = resolve_parameters(self._params, values, model=self._model.name,
-                                 known=self._known_parameters())
+                                 known=self._known_parameters(),
+                                 inputs=[s.name for s in self._model.inputs])
         vals = self._evaluate([np.float64(v) for v in vec], None)
         self._check_definite([np.float64(v) for v in vec], None)
         self._check_finite(vals, vec, False)

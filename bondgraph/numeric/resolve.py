@@ -32,10 +32,10 @@ __all__ = ["ParameterValues", "resolve_parameters", "resolve_batch", "parameter_
 
 
 def _match(parameters: Sequence[sympy.Symbol], values: Mapping, where: str,
-           known: Iterable[str] = ()) -> dict[str, Any]:
+           known: Iterable[str] = (), inputs: Iterable[str] = ()) -> dict[str, Any]:
     # matched by name: the model's own symbols serve (no Symbol built per name and call)
     return {p.name: v for p, v in match_values(parameters, values, known=known,
-                                               where=where).items()}
+                                               where=where, inputs=inputs).items()}
 
 
 def _scalar(value: Any, name: str, where: str) -> float:
@@ -43,7 +43,8 @@ def _scalar(value: Any, name: str, where: str) -> float:
 
 
 def resolve_parameters(parameters: Sequence[sympy.Symbol], values: ParameterValues, *,
-                       model: str = "", known: Iterable[str] = ()) -> np.ndarray:
+                       model: str = "", known: Iterable[str] = (),
+                       inputs: Iterable[str] = ()) -> np.ndarray:
     """Values in the order of ``parameters``, checked.
 
     Parameters
@@ -57,6 +58,8 @@ def resolve_parameters(parameters: Sequence[sympy.Symbol], values: ParameterValu
     known : iterable of str, optional
         Names the model definition knows beyond ``parameters``; their values
         are accepted and ignored (see :mod:`bondgraph.parameters`).
+    inputs : iterable of str, optional
+        The model's input names (one given as a parameter is named as an input).
 
     Returns
     -------
@@ -80,7 +83,7 @@ def resolve_parameters(parameters: Sequence[sympy.Symbol], values: ParameterValu
     """
     where = f"model {model!r}: " if model else ""
     names = [p.name for p in parameters]
-    given = _match(parameters, values, where, known)
+    given = _match(parameters, values, where, known, inputs)
     return np.array([_scalar(given[n], n, where) for n in names], dtype=float)
 
 

@@ -131,6 +131,7 @@ class NumericDynamics(_CompiledModel):
     def parameter_vector(self, values: ParameterValues) -> np.ndarray:
         """Checked parameter values in order (see :func:`~bondgraph.numeric.resolve_parameters`)."""
         return resolve_parameters(self._params, values, model=self._model.name,
+                                  inputs=[s.name for s in self._model.inputs],
                                   known=self._model.known_parameters)
 
     def derivatives(self, t: float, x, u, p) -> np.ndarray:
