@@ -24,8 +24,6 @@ from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
-
 from ..numeric.result import TimeResponse
 
 __all__ = ["SwitchedResponse"]
@@ -37,9 +35,10 @@ class SwitchedResponse(TimeResponse):
     __slots__ = ()
 
     def _signals(self):
-        return (("output", self.outputs), ("state", self.stored),    # type: ignore[attr-defined]
-                ("input", getattr(self, "inputs", None) or {}))
+        me: Any = self
+        return (("output", me.outputs), ("state", me.stored), ("input", me.inputs))
 
     def _extra_columns(self) -> dict[str, Any]:
-        names = np.array([str(m) for m in self.modes], dtype=object)       # type: ignore[attr-defined]
-        return {"mode": names[np.asarray(self.mode_index, dtype=int)]}     # type: ignore[attr-defined]
+        me: Any = self
+        names: Any = [str(m) for m in me.modes]
+        return {"mode": [names[int(k)] for k in me.mode_index]}

@@ -114,7 +114,7 @@ class SwitchedModel(ModeSet):
                     raise ParameterValueError(
                         f"model {self.name!r}: {name!r} is an input of the model, not a parameter "
                         "(give it as an input: u= when simulating)", unknown=(name,))
-        chosen = {k: v for k, v in (("max_events", max_events), ("time_budget", time_budget),
+        chosen: dict[str, Any] = {k: v for k, v in (("max_events", max_events), ("time_budget", time_budget),
                                     ("chatter_count", chatter_count), ("chatter_time", chatter_time),
                                     ("guard_tol", guard_tol)) if v is not None}
         res = _events_simulate(self, t_span, x0, values=values, inputs=u, t_eval=t_eval,
@@ -142,6 +142,48 @@ class SwitchedModel(ModeSet):
             column.flags.writeable = False
             out[name] = column
         return out
+
+    def drawing_mode(self, mode: Optional[ModeLike] = None):
+        """What :func:`bondgraph.draw` draws: the causal graph of ``mode`` and each
+        switch's state in it.
+
+        Parameters
+        ----------
+        mode : Mode or mapping with keys ``'on'`` and ``'off'``, optional
+            Default: the initial mode (the states the switches are built in).
+            Switches not named keep their built state.
+
+        Returns
+        -------
+        (Mode, AugmentedBondGraph, dict of str to bool)
+
+        Raises
+        ------
+        ModeError
+            ``mode`` is not a consistent mode (the consistent ones listed).
+
+        Examples
+        --------
+        >>> import bondgraph as bg
+        >>> from bondgraph.hybrid import SwitchedModel, library
+        >>> sm = SwitchedModel(library.buck())
+        >>> mode, aug, states = sm.drawing_mode({"on": {"D"}, "off": {"S"}})
+        >>> str(mode), states, aug.derivative
+        ('D on, S off', {'S': False, 'D': True}, ())
+        >>> sm.drawing_mode({"on": {"S", "D"}})
+        Traceback (most recent call last):
+        ...
+        bondgraph.hybrid.errors.ModeError: mode (D on, S on) of model 'buck' is not consistent: ...
+        """
+        from .averaging import _mode
+
+        chosen = self.initial if mode is None else _mode(self, mode)
+        try:
+            derived = self.derived(chosen)
+        except ModeError as exc:
+            raise ModeError(f"{exc}; the consistent modes are "
+                            f"{'; '.join(f'({m})' for m in self.modes) or 'none'}") from None
+        return chosen, derived.full.augmented, {n: chosen.is_on(n) for n in self.switches}
 
     def average(self, duty, active: ModeLike, passive: ModeLike, *,
                 name: Optional[str] = None) -> Model:
