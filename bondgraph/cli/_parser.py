@@ -13,7 +13,7 @@ from __future__ import annotations
 import argparse
 
 from ..export import EXPORT_FORMATS
-from . import _operating
+from . import _operating, _simulate, _switched
 from ._commands import cmd_draw, cmd_equations, cmd_export, cmd_tf
 from ._sweep import cmd_sweep
 
@@ -50,6 +50,7 @@ def build_parser() -> argparse.ArgumentParser:
                                    "(with default values) and equations x' = f(x, u), y = g(x, u).")
     p.add_argument("model", metavar="MODEL", help="model file (.py)")
     p.add_argument("--latex", action="store_true", help="print the equations as LaTeX (aligned)")
+    _switched.add_arguments(p)
     p.set_defaults(func=cmd_equations)
 
     p = sub.add_parser("tf", help="print a transfer function",
@@ -68,6 +69,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "print poles and zeros")
     p.add_argument("--params", metavar="FILE", help="parameter values, JSON or TOML")
     _operating.add_arguments(p)
+    _switched.add_arguments(p)
     p.set_defaults(func=cmd_tf)
 
     p = sub.add_parser("export", help="export a numeric plant or generate code",
@@ -90,6 +92,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="FMU: Model Exchange, Co-Simulation (fixed-step RK4) or both (default)")
     p.add_argument("-o", "--output", metavar="OUT", required=True, help="output file")
     _operating.add_arguments(p)
+    _switched.add_arguments(p)
     p.set_defaults(func=cmd_export)
 
     p = sub.add_parser("draw", help="draw the bond graph (SVG, PNG or TikZ)",
@@ -116,7 +119,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="labels without sub-model prefixes (I:m_1 for I:link.m_1)")
     p.add_argument("--no-numbers", action="store_true", help="omit the bond numbers")
     p.add_argument("--latex", action="store_true", help="TikZ: element names as LaTeX math")
+    _switched.add_arguments(p, average=False)
     p.set_defaults(func=cmd_draw)
+    _simulate.add_parser(sub)
 
     from ..study.design import DESIGNS
     from ..study.metrics import BUILTIN
