@@ -39,7 +39,7 @@ from pathlib import Path
 from typing import Optional, Sequence
 
 from ..errors import BondGraphError
-from ..export import EXPORT_FORMATS
+from .._support.formats import EXPORT_FORMATS
 from . import _operating
 from ._common import CLIError, ParamsFileError, UsageError, load_params
 from ._operating import OperatingPointError
@@ -174,7 +174,7 @@ def _message(exc: BaseException) -> str:
 
 def _naming_path(message: str, args) -> str:
     """``message``, prefixed with the model file when it names none of the user's paths."""
-    with_output = args.command in ("export", "draw", "sweep")
+    with_output = args.command in ("export", "draw", "sweep", "simulate")
     keys = ("model", "params", "operating_point") + (("output",) if with_output else ())
     paths = [getattr(args, key, None) for key in keys]      # tf's --output is a signal, not a file
     spellings = set()

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from .._support.labels import latex_dot, latex_name, tex
 from ..errors import NonlinearModelError
-from ..export import EXPORT_FORMATS
+from .._support.formats import EXPORT_FORMATS
 from . import _common
 from . import _operating as _op
 from . import _switched as _sw
@@ -42,9 +42,7 @@ def _linear(args) -> bool:
 def _load(args, command: str):
     """The model file's definition and the one model the command works on (a switched
     model's mode or average, refused without a choice)."""
-    from ..modelfile import load_model
-
-    defn = load_model(args.model)
+    defn = _common._load_definition(args.model)
     return defn, _sw.chosen_model(args, defn, command)
 
 
@@ -60,9 +58,7 @@ def cmd_equations(args) -> None:
 
     A switched model prints every mode (or the one ``--mode``, or the average
     ``--average``)."""
-    from ..modelfile import load_model
-
-    defn = load_model(args.model)
+    defn = _common._load_definition(args.model)
     sm = _sw.switched_of(defn)
     if sm is None or args.mode is not None or args.average is not None:
         model = _sw.chosen_model(args, defn, "equations")
@@ -269,16 +265,14 @@ def cmd_export(args) -> None:
     point = _point_file(args)
     given = _given(args)
     if fmt == "fmu" and args.mode is None and args.average is None:
-        from ..modelfile import load_model
-
-        defn = load_model(args.model)
+        defn = _common._load_definition(args.model)
         sm = _sw.switched_of(defn)
         if sm is not None:          # every mode, with event indicators
             from ..fmu import export_fmu
 
-            values = dict(defn.parameters)
-            values.update(given or {})
-            export_fmu(sm, out, fmi=args.fmi or 2, kind=args.kind or "both", values=values)
+            every = dict(defn.parameters)
+            every.update(given or {})
+            export_fmu(sm, out, fmi=args.fmi or 2, kind=args.kind or "both", values=every)
             print(f"wrote {out} (switched: {len(sm.modes)} modes, switches {', '.join(sm.switches)})")
             return
     defn, model = _load(args, f"export -f {fmt}")

@@ -164,11 +164,12 @@ def chosen_model(args, defn, command: str):
             return sm.average(duty, modes[0], modes[1])
         except ModeError as exc:
             raise CLIError(f"--average: {exc}") from None
+    pair = _example_pair(sm)
     raise CLIError(
         f"model {sm.name!r} is switched (switches {', '.join(sm.switches)}): '{command}' needs one "
         f"mode or the state-space average; choose a mode with --mode (consistent modes: "
-        f"{modes_listing(sm)}) or average two modes with --average DUTY ACTIVE PASSIVE "
-        f"(e.g. --average d {_example_pair(sm)})")
+        f"{modes_listing(sm)})" + (f" or average two modes with --average DUTY ACTIVE PASSIVE "
+                                    f"(e.g. --average d {pair})" if pair else ""))
 
 
 def _example_pair(sm) -> str:
@@ -180,4 +181,4 @@ def _example_pair(sm) -> str:
                 if b == sm.initial:
                     a, b = b, a
                 return f"{mode_text(sm, a)} {mode_text(sm, b)}"
-    return "ACTIVE PASSIVE"
+    return ""

@@ -355,7 +355,7 @@ def test_usage_errors_exit_2(outdir, capsys):
 def test_unexpected_exception_is_reported_without_traceback(capsys, monkeypatch):
     def boom(*args, **kwargs):
         raise RuntimeError("something inside broke")
-    monkeypatch.setattr(cli._common, "_load", boom)
+    monkeypatch.setattr(cli._common, "_load_definition", boom)
     err = failed(capsys, "equations", MOTOR)
     assert err == f"error: model file '{MOTOR}': RuntimeError: something inside broke\n"
 
