@@ -121,14 +121,10 @@ def cmd_simulate(args) -> None:
         values = {n: v for n, v in defn.parameters.items()}
         values.update(given or {})
         names = _switched_inputs(sm)
-        rtol = 1e-9 if args.rtol is None else args.rtol
-        atol = 1e-12 if args.atol is None else args.atol
     else:
         target = _switched.chosen_model(args, defn, "simulate")
         values = _values(defn, target, args.params, given, complete=True)
         names = list(target.input_names)
-        rtol = 1e-6 if args.rtol is None else args.rtol
-        atol = 1e-9 if args.atol is None else args.atol
     unknown = sorted(set(inputs) - set(names))
     if unknown:
         raise UsageError(f"--input {unknown[0]!r}: model {defn.name!r} has no input named so; its "
@@ -136,7 +132,7 @@ def cmd_simulate(args) -> None:
     grid = np.linspace(args.t_start, args.t_end, args.points).tolist()
     res = simulate(target, values, (args.t_start, args.t_end), x0 or None,
                    u={n: inputs.get(n, 0.0) for n in names}, t_eval=grid, method=args.method,
-                   max_step=args.max_step, rtol=rtol, atol=atol)
+                   max_step=args.max_step, rtol=args.rtol, atol=args.atol)
     signals = None
     if args.signals is not None:
         signals = [s.strip() for s in args.signals.split(",") if s.strip()]

@@ -306,8 +306,8 @@ def simulate(model: Union[StateEquations, NumericDynamics, Any], values: Paramet
              t_span: tuple[float, float],
              x0: Union[None, Sequence[float], np.ndarray, Mapping[str, float]] = None,
              *, u: InputSpec = None, t_eval: Optional[Sequence[float]] = None,
-             method: Union[str, type] = "RK45", rtol: float = 1e-6,
-             atol: Union[float, Sequence[float], np.ndarray] = 1e-9,
+             method: Union[str, type] = "RK45", rtol: Optional[float] = None,
+             atol: Union[None, float, Sequence[float], np.ndarray] = None,
              max_step: Optional[float] = None, max_events: Optional[int] = None,
              time_budget: Optional[float] = None, chatter_count: Optional[int] = None,
              chatter_time: Optional[float] = None,
@@ -359,9 +359,11 @@ def simulate(model: Union[StateEquations, NumericDynamics, Any], values: Paramet
         A ``solve_ivp`` method, one of :data:`METHODS`: ``"RK45"``,
         ``"RK23"``, ``"DOP853"``, ``"Radau"``, ``"BDF"``, ``"LSODA"``.
     rtol : float, optional
-        Relative tolerance, ``0 < rtol < 1``.
+        Relative tolerance, ``0 < rtol < 1``; default 1e-6 (switched models
+        1e-9: event times are located to it).
     atol : float or array_like, optional
-        Absolute tolerance, ``> 0``: one number, or one per state.
+        Absolute tolerance, ``> 0``: one number, or one per state; default
+        1e-9 (switched models 1e-12).
     max_step : float, optional
         Largest step, ``> 0``; with sampled inputs the default is the smallest
         sample spacing, otherwise unbounded.
@@ -412,8 +414,9 @@ def simulate(model: Union[StateEquations, NumericDynamics, Any], values: Paramet
               "chatter_time": chatter_time, "guard_tol": guard_tol}
     switched = getattr(model, "simulate_with_events", None)
     if switched is not None:       # a switched model (bondgraph.hybrid) runs its own event loop
-        return switched(values, t_span, x0, u=u, t_eval=t_eval, method=method, rtol=rtol,
-                        atol=atol, max_step=max_step, **events)
+        return switched(values, t_span, x0, u=u, t_eval=t_eval, method=method,
+                        rtol=1e-9 if rtol is None else rtol, atol=1e-12 if atol is None else atol,
+                        max_step=max_step, **events)
     given = [k for k, v in events.items() if v is not None]
     if given:
         raise NumericError(f"{', '.join(given)} apply to switched models (with events) only; "
@@ -427,7 +430,8 @@ def simulate(model: Union[StateEquations, NumericDynamics, Any], values: Paramet
     ufun, spacing = arguments.input_function(u, m, dyn.input_names)
     times = arguments.eval_times(t_eval, t0, t1, len(dyn.state_names) + len(dyn.output_names) + m)
     solver = arguments.solver(method)
-    r_tol, a_tol = arguments.tolerances(rtol, atol, len(dyn.state_names))
+    r_tol, a_tol = arguments.tolerances(1e-6 if rtol is None else rtol,
+                                        1e-9 if atol is None else atol, len(dyn.state_names))
     step = arguments.step_limit(max_step, spacing)
     ufun(t0)  # check the input's shape before integrating
     label = solver if isinstance(solver, str) else solver.__name__
