@@ -60,18 +60,29 @@ def _load() -> None:
     from .flatten import FlatGraph, flatten
     from .causality import AugmentedBondGraph, CausalBond, assign_causality
     from .linear import SymbolicStateSpace
-    from .numeric import (BatchStateSpace, ImproperPlantError, NumericModel, NumericStateSpace,
-                          SimulationResult, compile_plant, numeric_plant, simulate,
-                          to_nonlinear_iosys)
     from .model import Model, derive
     from .modelfile import ModelDefinition, ModelFileError, load_model
-    from .export import ExportError
-    from .drawing import draw
 
-    # a traceback names the exception where users import it: bondgraph.FieldError
-    for exc in (FieldError, ModelFileError, ExportError, ImproperPlantError):
-        exc.__module__ = __name__
+    # the notebook display, drawn by bondgraph.drawing when shown (imported then)
+    for cls in (BondGraph, AugmentedBondGraph, Model):
+        if not hasattr(cls, "_repr_svg_"):
+            setattr(cls, "_repr_svg_", _repr_svg_)
     globals().update({k: v for k, v in locals().items() if k in __all__})
+
+
+#: names bound from their own module on first use: numeric plants and simulation (scipy),
+#: exports and drawings are loaded only by what uses them
+_LATER = {**dict.fromkeys(("BatchStateSpace", "ImproperPlantError", "NumericModel",
+                           "NumericStateSpace", "SimulationResult", "compile_plant", "numeric_plant",
+                           "simulate", "to_nonlinear_iosys"), "numeric"),
+          "ExportError": "export", "draw": "drawing"}
+
+
+def _repr_svg_(self):
+    """SVG of the bond graph for Jupyter (see :func:`bondgraph.drawing.repr_svg`)."""
+    from .drawing import repr_svg
+
+    return repr_svg(self)
 
 
 __version__ = "0.1.0"
@@ -107,6 +118,12 @@ def __getattr__(name: str):
         from . import study
 
         return getattr(study, name)
+    if name in _LATER:
+        import importlib
+
+        value = getattr(importlib.import_module(f"{__name__}.{_LATER[name]}"), name)
+        globals()[name] = value
+        return value
     if name in __all__:
         _load()
         return globals()[name]

@@ -35,7 +35,6 @@ from .hamiltonian import PortHamiltonian, energy, port_hamiltonian
 from . import linear
 from .linear import Equilibrium, SymbolicStateSpace
 from .linear.latex import equations_latex, model_latex
-from .numeric import linear_plant
 
 __all__ = ["Model", "derive"]
 
@@ -261,6 +260,8 @@ class Model(StateEquations):
         if isinstance(x0, Equilibrium) or values is not None:
             if values is None:
                 values = dict(x0.values)
+            from .numeric import linear_plant     # scipy only when a numeric plant is asked for
+
             return linear_plant(self, x0, u0, values, tol=max(tol, 1e-9), equilibrium=equilibrium)
         return linear.linearize(self, x0, u0, equilibrium=equilibrium, tol=tol)
 

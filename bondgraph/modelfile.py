@@ -59,6 +59,8 @@ PathLike = Union[str, "os.PathLike[str]"]
 class ModelFileError(BondGraphError, ValueError):
     """A model file is missing, is not Python, fails, or defines no model."""
 
+    __module__ = "bondgraph"      # tracebacks name it where users import it: bondgraph.ModelFileError
+
 
 @dataclass(frozen=True, eq=False)
 class ModelDefinition:

@@ -491,12 +491,13 @@ def test_import_bondgraph_leaves_matplotlib_unloaded():
     import subprocess
     import sys
 
-    # import bondgraph binds its names on first use; the first one loads the drawing package
-    # (which registers the notebook display) but not matplotlib
+    # import bondgraph binds its names on first use; the first one registers the notebook
+    # display, which loads the drawing package when it draws (never matplotlib for an SVG)
     code = ("import sys, bondgraph\n"
-            "loaded = 'bondgraph.drawing' in sys.modules\n"
-            "bondgraph.BondGraph\n"
-            "print(loaded, 'matplotlib' in sys.modules, 'bondgraph.drawing' in sys.modules)")
+            "g = bondgraph.BondGraph('r'); g.add(bondgraph.Se('V'), bondgraph.R('R'))\n"
+            "_ = g.connect('V', 'R')\n"
+            "print('bondgraph.drawing' in sys.modules, 'matplotlib' in sys.modules,\n"
+            "      callable(getattr(g, '_repr_svg_', None)))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.split() == ["False", "False", "True"]
 
