@@ -127,7 +127,18 @@ def __getattr__(name: str):
     if name in __all__:
         _load()
         return globals()[name]
+    if not name.startswith("_") and _is_submodule(name):     # bg.numeric, bg.export, ...
+        import importlib
+
+        return importlib.import_module(f"{__name__}.{name}")
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def _is_submodule(name: str) -> bool:
+    from pathlib import Path
+
+    here = Path(__file__).parent
+    return name.isidentifier() and ((here / name / "__init__.py").is_file() or (here / f"{name}.py").is_file())
 
 
 def __dir__() -> list:
