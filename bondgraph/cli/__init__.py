@@ -1,4 +1,4 @@
-"""Command line: ``bondgraph equations | tf | export | draw | sweep MODEL ...``.
+"""Command line: ``bondgraph equations | tf | export | draw | simulate | sweep MODEL ...``.
 
 ``MODEL`` is a model file (see :mod:`bondgraph.modelfile`): a Python file
 whose ``model()`` returns a :class:`~bondgraph.modelfile.ModelDefinition`.
@@ -18,9 +18,22 @@ written all or nothing: a failed command leaves no partial or temporary
 file, and the ``.c``/``.h`` pair of ``export --format c`` is replaced
 together or not at all.
 
+A switched model file (its graph holds switches, :mod:`bondgraph.hybrid`) is
+switched in every command: ``equations`` prints every mode, ``simulate``
+runs it with its events, ``export -f fmu`` writes every mode with event
+indicators, ``draw`` draws the initial mode; ``tf`` and the other exports
+take one mode (``--mode on=S``) or the state-space average (``--average d
+on=S on=D``) and refuse without one, listing the modes
+(:mod:`bondgraph.cli._switched`).
+
+Start-up: this package imports only what ``--help`` needs (no sympy, numpy
+or engine); each command imports its modules when it runs
+(``bench/bench_cli_startup.py`` measures it).
+
 The package: :mod:`._common` (errors, params files, values),
-:mod:`._commands` (equations, tf, export, draw), :mod:`._operating`
-(operating points), :mod:`._sweep`, :mod:`._parser`; :func:`main` here.
+:mod:`._commands` (equations, tf, export, draw), :mod:`._simulate`,
+:mod:`._switched` (modes and averages), :mod:`._operating` (operating
+points), :mod:`._sweep`, :mod:`._parser`; :func:`main` here.
 
 Examples
 --------
