@@ -15,7 +15,9 @@ under 0.3 s, each command's imports under 0.6 s.
 
 Run from the repository root::
 
-    python bench/bench_cli_startup.py [--runs 7] [--importtime]
+    python bench/bench_cli_startup.py [--runs 7] [--importtime] [--root OTHER_CHECKOUT]
+
+``--root`` times another checkout of the package (to compare before and after).
 
 ``--importtime`` adds the ten slowest imports of ``bondgraph --help`` and of
 ``equations`` (``python -X importtime``, cumulative microseconds).  The load
@@ -54,6 +56,12 @@ def _env() -> dict:
     return env
 
 
+def _set_root(path: str) -> None:
+    global ROOT, MOTOR
+    ROOT = Path(path).resolve()
+    MOTOR = str(ROOT / "tests" / "data" / "dc_motor.py")
+
+
 def timed(argv: list[str], runs: int) -> float:
     """Median wall time of ``runs`` fresh processes (one untimed run first)."""
     env = _env()
@@ -82,11 +90,14 @@ def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--runs", type=int, default=7, help="processes per figure (median)")
     ap.add_argument("--importtime", action="store_true", help="also the slowest imports")
+    ap.add_argument("--root", help="time this checkout instead (default: this repository)")
     args = ap.parse_args(argv)
+    if args.root:
+        _set_root(args.root)
     py = sys.executable
     load = os.getloadavg()[0] if hasattr(os, "getloadavg") else float("nan")
     print(f"python {sys.version.split()[0]}, {os.cpu_count()} CPUs, load average {load:.2f}, "
-          f"median of {args.runs} runs")
+          f"median of {args.runs} runs, {ROOT}")
     rows = [("python (baseline)", [py, "-c", "pass"], None),
             ("bondgraph --help", [py, "-m", "bondgraph", "--help"], 0.3),
             ("import bondgraph", [py, "-c", "import bondgraph"], None)]

@@ -180,6 +180,37 @@ class ModelDefinition:
         return self._cache["model"]
 
     @property
+    def switched(self):
+        """The :class:`~bondgraph.hybrid.SwitchedModel` when the graph holds switches
+        (:mod:`bondgraph.hybrid`), else None (computed once).
+
+        A switched definition is switched in every command line command: the
+        mode its graph is built in is only the initial mode.
+
+        Examples
+        --------
+        >>> from bondgraph.hybrid import library
+        >>> ModelDefinition(library.buck()).switched.switches
+        ('S', 'D')
+        >>> import bondgraph as bg
+        >>> g = bg.BondGraph("m"); g.add(bg.Se("F"), bg.I("m")); _ = g.connect("F", "m")
+        >>> ModelDefinition(g).switched is None
+        True
+        """
+        if "switched" not in self._cache:
+            from .flatten import flatten
+            from .hybrid.elements import SwitchElement
+
+            flat = flatten(self.graph)
+            found = None
+            if any(isinstance(el, SwitchElement) for el in flat.elements):
+                from .hybrid import SwitchedModel
+
+                found = SwitchedModel(flat, outputs=dict(self.outputs))
+            self._cache["switched"] = found
+        return self._cache["switched"]
+
+    @property
     def declares_units(self) -> bool:
         """True when a parameter carries units or :attr:`domains` are given."""
         return "given" in self._cache

@@ -67,18 +67,7 @@ def parse_mode(text: str, option: str = "--mode") -> tuple[Optional[set], Option
 
 def switched_of(defn) -> Any:
     """The :class:`~bondgraph.hybrid.SwitchedModel` of a model file's definition, or None."""
-    from ..flatten import flatten
-    from ..hybrid.elements import SwitchElement
-
-    if "switched" not in defn._cache:
-        flat = flatten(defn.graph)
-        if any(isinstance(el, SwitchElement) for el in flat.elements):
-            from ..hybrid import SwitchedModel
-
-            defn._cache["switched"] = SwitchedModel(flat, outputs=dict(defn.outputs))
-        else:
-            defn._cache["switched"] = None
-    return defn._cache["switched"]
+    return defn.switched
 
 
 def mode_text(sm, mode) -> str:
