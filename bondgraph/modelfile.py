@@ -198,17 +198,21 @@ class ModelDefinition:
         True
         """
         if "switched" not in self._cache:
-            from .flatten import flatten
-            from .hybrid.elements import SwitchElement
-
-            flat = flatten(self.graph)
             found = None
-            if any(isinstance(el, SwitchElement) for el in flat.elements):
+            # a switch element's class is bondgraph.hybrid's: without that package loaded the
+            # graph holds none (and checking loads no scipy, which its simulation needs)
+            if "bondgraph.hybrid" in sys.modules and self._has_switches():
                 from .hybrid import SwitchedModel
 
-                found = SwitchedModel(flat, outputs=dict(self.outputs))
+                found = SwitchedModel(self.graph, outputs=dict(self.outputs))
             self._cache["switched"] = found
         return self._cache["switched"]
+
+    def _has_switches(self) -> bool:
+        from .flatten import flatten
+        from .hybrid.elements import SwitchElement
+
+        return any(isinstance(el, SwitchElement) for el in flatten(self.graph).elements)
 
     @property
     def declares_units(self) -> bool:
@@ -258,10 +262,12 @@ class ModelDefinition:
         mappingproxy({})
         """
         if "texts" not in self._cache:
-            from .library.units.signals import unit_text
+            texts: dict[str, str] = {}
+            if self.unit_dimensions:          # the unit library only for a model with units
+                from .library.units.signals import unit_text
 
-            self._cache["texts"] = MappingProxyType(
-                {k: unit_text(d) for k, d in self.unit_dimensions.items()})
+                texts = {k: unit_text(d) for k, d in self.unit_dimensions.items()}
+            self._cache["texts"] = MappingProxyType(texts)
         return self._cache["texts"]
 
     def plant(self, values: Mapping[str, float] | None = None):
@@ -414,7 +420,7 @@ def load_model(path: PathLike) -> ModelDefinition:
 
 def _model_path(path: Any) -> str:
     """The model file's path as the user gave it, checked to name a readable .py file."""
-    from .export import checked_path
+    from ._support.files import checked_path
 
     p = checked_path(path, "model file", ModelFileError)
     try:
