@@ -65,18 +65,19 @@ def _set_root(path: str) -> None:
 def timed(argv: list[str], runs: int) -> float:
     """Median wall time of ``runs`` fresh processes (one untimed run first)."""
     env = _env()
-    subprocess.run(argv, env=env, capture_output=True, check=True)
+    # run in the checkout: its package, not one in the caller's directory, is imported
+    subprocess.run(argv, env=env, capture_output=True, check=True, cwd=ROOT)
     times = []
     for _ in range(runs):
         start = time.perf_counter()
-        subprocess.run(argv, env=env, capture_output=True, check=True)
+        subprocess.run(argv, env=env, capture_output=True, check=True, cwd=ROOT)
         times.append(time.perf_counter() - start)
     return statistics.median(times)
 
 
 def slowest_imports(argv: list[str], n: int = 10) -> list[tuple[int, str]]:
     """The ``n`` largest cumulative import times (us) of ``python -X importtime argv``."""
-    out = subprocess.run([sys.executable, "-X", "importtime", *argv], env=_env(),
+    out = subprocess.run([sys.executable, "-X", "importtime", *argv], env=_env(), cwd=ROOT,
                          capture_output=True, text=True, check=True).stderr
     rows = []
     for line in out.splitlines():
