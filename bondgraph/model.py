@@ -35,7 +35,6 @@ from .hamiltonian import PortHamiltonian, energy, port_hamiltonian
 from . import linear
 from .linear import Equilibrium, OperatingPoint, SymbolicStateSpace
 from .linear.latex import equations_latex, model_latex
-from .numeric import linear_plant
 
 __all__ = ["Model", "derive"]
 
@@ -341,6 +340,8 @@ class Model(StateEquations):
                 values = dict(x0.values)
             if x0 is None:
                 x0, u0 = self.equilibrium(values, u0, tol=min(tol, 1e-10)), None
+            from .numeric import linear_plant     # scipy only when a numeric plant is asked for
+
             return linear_plant(self, x0, u0, values, tol=max(tol, 1e-9), equilibrium=equilibrium)
         return linear.linearize(self, x0, u0, equilibrium=equilibrium, tol=tol)
 

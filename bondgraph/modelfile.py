@@ -59,6 +59,8 @@ PathLike = Union[str, "os.PathLike[str]"]
 class ModelFileError(BondGraphError, ValueError):
     """A model file is missing, is not Python, fails, or defines no model."""
 
+    __module__ = "bondgraph"      # tracebacks name it where users import it: bondgraph.ModelFileError
+
 
 @dataclass(frozen=True, eq=False)
 class ModelDefinition:
@@ -185,6 +187,41 @@ class ModelDefinition:
         return self._cache["model"]
 
     @property
+    def switched(self):
+        """The :class:`~bondgraph.hybrid.SwitchedModel` when the graph holds switches
+        (:mod:`bondgraph.hybrid`), else None (computed once).
+
+        A switched definition is switched in every command line command: the
+        mode its graph is built in is only the initial mode.
+
+        Examples
+        --------
+        >>> from bondgraph.hybrid import library
+        >>> ModelDefinition(library.buck()).switched.switches
+        ('S', 'D')
+        >>> import bondgraph as bg
+        >>> g = bg.BondGraph("m"); g.add(bg.Se("F"), bg.I("m")); _ = g.connect("F", "m")
+        >>> ModelDefinition(g).switched is None
+        True
+        """
+        if "switched" not in self._cache:
+            found = None
+            # a switch element's class is bondgraph.hybrid's: without that package loaded the
+            # graph holds none (and checking loads no scipy, which its simulation needs)
+            if "bondgraph.hybrid" in sys.modules and self._has_switches():
+                from .hybrid import SwitchedModel
+
+                found = SwitchedModel(self.graph, outputs=dict(self.outputs))
+            self._cache["switched"] = found
+        return self._cache["switched"]
+
+    def _has_switches(self) -> bool:
+        from .flatten import flatten
+        from .hybrid.elements import SwitchElement
+
+        return any(isinstance(el, SwitchElement) for el in flatten(self.graph).elements)
+
+    @property
     def declares_units(self) -> bool:
         """True when a parameter carries units or :attr:`domains` are given."""
         return "given" in self._cache
@@ -232,10 +269,12 @@ class ModelDefinition:
         mappingproxy({})
         """
         if "texts" not in self._cache:
-            from .library.units.signals import unit_text
+            texts: dict[str, str] = {}
+            if self.unit_dimensions:          # the unit library only for a model with units
+                from .library.units.signals import unit_text
 
-            self._cache["texts"] = MappingProxyType(
-                {k: unit_text(d) for k, d in self.unit_dimensions.items()})
+                texts = {k: unit_text(d) for k, d in self.unit_dimensions.items()}
+            self._cache["texts"] = MappingProxyType(texts)
         return self._cache["texts"]
 
     def plant(self, values: Mapping[str, float] | None = None):
@@ -423,7 +462,7 @@ def load_model(path: PathLike) -> ModelDefinition:
 
 def _model_path(path: Any) -> str:
     """The model file's path as the user gave it, checked to name a readable .py file."""
-    from .export import checked_path
+    from ._support.files import checked_path
 
     p = checked_path(path, "model file", ModelFileError)
     try:

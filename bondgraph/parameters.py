@@ -28,6 +28,10 @@ Examples
 Traceback (most recent call last):
 ...
 bondgraph.errors.ParameterValueError: unknown parameter 'kk' (did you mean 'k'?); missing k. Valid names: k, m
+>>> match_values((k, m), {"k": 4, "m": 0.5, "F": 1.0}, inputs=("F",))
+Traceback (most recent call last):
+...
+bondgraph.errors.ParameterValueError: 'F' is an input of the model, not a parameter (give it as an input: u= when simulating). Valid names: k, m
 """
 
 from __future__ import annotations
@@ -71,7 +75,7 @@ def parameter_name(key: object, where: str = "") -> str:
 
 def match_values(parameters: Sequence[sympy.Symbol], values: Optional[ParameterValues], *,
                  known: Iterable[str] = (), partial: bool = False,
-                 where: str = "") -> dict[sympy.Symbol, Any]:
+                 where: str = "", inputs: Iterable[str] = ()) -> dict[sympy.Symbol, Any]:
     """Match ``values`` to ``parameters`` by name; the policy of the module docstring.
 
     Parameters
@@ -86,6 +90,9 @@ def match_values(parameters: Sequence[sympy.Symbol], values: Optional[ParameterV
         Allow parameters without a value (they are left out of the result).
     where : str, optional
         Prefix of error messages (``"model 'srv02': "``).
+    inputs : iterable of str, optional
+        The model's input names: one given as a parameter is named as an
+        input in the error, not as an unknown parameter.
 
     Returns
     -------
@@ -120,7 +127,12 @@ def match_values(parameters: Sequence[sympy.Symbol], values: Optional[ParameterV
     if unknown or missing:
         valid = ", ".join(sorted(known)) if known else "(no parameters)"
         parts = []
+        inputs = set(inputs)
         for n in unknown:
+            if n in inputs:
+                parts.append(f"{n!r} is an input of the model, not a parameter (give it as an "
+                             "input: u= when simulating)")
+                continue
             near = difflib.get_close_matches(n, sorted(known), n=1)
             parts.append(f"unknown parameter {n!r}" + (f" (did you mean {near[0]!r}?)" if near else ""))
         if missing:
@@ -191,25 +203,3 @@ def exact_value(value: Any, name: str, where: str = "") -> sympy.Expr:
         return sympy.Integer(int(value))
     x = real_value(value, name, where)
     return sympy.Rational(repr(x))
-
-
-def note_inputs(error: ParameterValueError, inputs: Iterable[str]) -> ParameterValueError:
-    """``error`` with a sentence for each unknown name that is one of the model's ``inputs``:
-    a value given for an input among the parameters says it is an input.
-
-    Examples
-    --------
-    >>> k = sympy.Symbol("k", positive=True)
-    >>> try:
-    ...     match_values((k,), {"k": 1.0, "F": 2.0})
-    ... except ParameterValueError as exc:
-    ...     print(note_inputs(exc, ("F",)))
-    unknown parameter 'F'. Valid names: k; 'F' is an input of the model, not a parameter: give its values as an input (u= of simulate, inputs= of equilibrium), or make the source a parameter with value=
-    """
-    named = [n for n in error.unknown if n in set(inputs)]
-    if not named:
-        return error
-    notes = "; ".join(f"{n!r} is an input of the model, not a parameter: give its values as an "
-                      "input (u= of simulate, inputs= of equilibrium), or make the source a "
-                      "parameter with value=" for n in named)
-    return type(error)(f"{error}; {notes}", missing=error.missing, unknown=error.unknown)

@@ -16,9 +16,11 @@ The state-space average over a period, in the duty cycle ``d``, is an ordinary
 model whose duty-to-output transfer function is the textbook
 ``Vin/(L C s^2 + (L/R) s + 1)``.
 
-For the ``bondgraph`` command line, ``model()`` is the graph in the mode it is
-built in (``switch_on=True``: S on, D off; ``False``: S off, D on), an ordinary
-bond graph there.
+For the ``bondgraph`` command line, ``model()`` is the switched graph (built with
+S on and D off, the initial mode): ``bondgraph equations`` prints every mode,
+``simulate`` runs it with its events, ``export -f fmu`` writes every mode, and
+``tf`` or a numeric ``export`` take ``--mode on=S`` or the average
+``--average d on=S on=D``.
 """
 
 from __future__ import annotations
@@ -60,19 +62,18 @@ def averaged(duty: str = "d") -> bg.Model:
 
 
 def model(*, switch_on: bool = True):
-    """Model definition (the model-file protocol): one mode of the converter."""
+    """Model definition (the model-file protocol): the switched converter, built in the mode
+    ``switch_on`` gives (S on, D off; or S off, D on)."""
     from bondgraph.modelfile import ModelDefinition
 
     return ModelDefinition(graph=build(switch_on=switch_on), outputs=OUTPUTS,
                            parameters=PARAMETERS,
-                           description=f"buck converter, switch {'on' if switch_on else 'off'}")
+                           description="buck converter: PWM switch S, freewheeling diode D")
 
 
 def main(argv: list[str] | None = None) -> int:
     """Print the modes, the averaged duty-to-output TF and a switched run's mean and ripple."""
     import numpy as np
-
-    from bondgraph.hybrid import simulate
 
     sm = switched()
     for mode in sm.all_modes:
@@ -92,8 +93,8 @@ def main(argv: list[str] | None = None) -> int:
     d, T = p["duty"], p["T"]
     i0 = d * p["Vin"] / p["R"] - p["Vin"] * (1 - d) * d * T / p["L"] / 2
     grid = np.linspace(30 * T, 40 * T, 2001)
-    res = simulate(sm, (0, 40 * T), {"p_L": p["L"] * i0, "q_C": p["C"] * d * p["Vin"]},
-                   values=p, t_eval=grid)
+    res = bg.simulate(sm, p, (0, 40 * T), {"p_L": p["L"] * i0, "q_C": p["C"] * d * p["Vin"]},
+                      t_eval=grid)
     keep = res.t >= 30 * T
     v = res.outputs["v"][keep]
     print(f"\nswitched run ({len(res.events)} events): mean v = {v.mean():.6f} V "

@@ -13,8 +13,10 @@ velocity ``(J1 w1 + J2 w2)/(J1 + J2)``, and ``J1 J2 (w1 - w2)^2 / (2 (J1 + J2))`
 of kinetic energy is lost in the clutch (``python models/clutch.py`` prints
 the event).
 
-For the ``bondgraph`` command line, ``model()`` is the graph in the mode it is
-built in (``engaged=False``: disengaged; ``True``: locked).
+For the ``bondgraph`` command line, ``model()`` is the switched graph, built
+disengaged (``engaged=False``, the initial mode) or locked: ``equations``
+prints both modes, ``simulate`` runs the lock as an event, and ``tf`` takes
+``--mode on=K`` (disengaged) or ``--mode off=K`` (locked).
 
 Friction clutch (Karnopp)
 -------------------------
@@ -68,7 +70,8 @@ def karnopp() -> SwitchedModel:
 
 
 def model(*, engaged: bool = False):
-    """Model definition (the model-file protocol): one mode of the clutch."""
+    """Model definition (the model-file protocol): the switched clutch, built disengaged or
+    locked."""
     from bondgraph.modelfile import ModelDefinition
 
     return ModelDefinition(graph=build(engaged=engaged), outputs=OUTPUTS, parameters=PARAMETERS,
@@ -77,8 +80,6 @@ def model(*, engaged: bool = False):
 
 def main(argv: list[str] | None = None) -> int:
     """Print both modes and simulate a lock: w2(0) = 3 rad/s, tau = 1 N m."""
-    from bondgraph.hybrid import simulate
-
     sm = switched()
     for mode in sm.modes:
         m = sm.derived(mode).user
@@ -86,7 +87,7 @@ def main(argv: list[str] | None = None) -> int:
               + "; ".join(f"d{s.name}/dt = {r}" for s, r in zip(m.states, m.rhs)))
     print("causality changes:", sm.causality_changes)
     p = PARAMETERS
-    res = simulate(sm, (0, 2), {"p_J2": p["J2"] * 3.0}, values=p, inputs={"tau": 1.0})
+    res = bg.simulate(sm, p, (0, 2), {"p_J2": p["J2"] * 3.0}, u={"tau": 1.0})
     for ev in res.events:
         print(f"t = {ev.time:.6f}: {ev.before} -> {ev.after}; energy lost {ev.energy_loss:.6f} J; "
               + ", ".join(f"{k}: {a:.6f} -> {b:.6f}" for k, (a, b) in ev.jumps.items()))

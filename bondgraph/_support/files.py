@@ -42,6 +42,8 @@ class ExportError(BondGraphError, OSError):
         The operating system's error number, when there was one.
     """
 
+    __module__ = "bondgraph"      # tracebacks name it where users import it: bondgraph.ExportError
+
     def __init__(self, message: str, *, path: Optional[str] = None, errno: Optional[int] = None) -> None:
         super().__init__(message)
         self.filename = path

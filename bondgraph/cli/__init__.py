@@ -1,4 +1,4 @@
-"""Command line: ``bondgraph equations | tf | export | draw | sweep MODEL ...``.
+"""Command line: ``bondgraph equations | tf | export | draw | simulate | sweep MODEL ...``.
 
 ``MODEL`` is a model file (see :mod:`bondgraph.modelfile`): a Python file
 whose ``model()`` returns a :class:`~bondgraph.modelfile.ModelDefinition`.
@@ -18,9 +18,22 @@ written all or nothing: a failed command leaves no partial or temporary
 file, and the ``.c``/``.h`` pair of ``export --format c`` is replaced
 together or not at all.
 
+A switched model file (its graph holds switches, :mod:`bondgraph.hybrid`) is
+switched in every command: ``equations`` prints every mode, ``simulate``
+runs it with its events, ``export -f fmu`` writes every mode with event
+indicators, ``draw`` draws the initial mode; ``tf`` and the other exports
+take one mode (``--mode on=S``) or the state-space average (``--average d
+on=S on=D``) and refuse without one, listing the modes
+(:mod:`bondgraph.cli._switched`).
+
+Start-up: this package imports only what ``--help`` needs (no sympy, numpy
+or engine); each command imports its modules when it runs
+(``bench/bench_cli_startup.py`` measures it).
+
 The package: :mod:`._common` (errors, params files, values),
-:mod:`._commands` (equations, tf, export, draw), :mod:`._operating`
-(operating points), :mod:`._sweep`, :mod:`._parser`; :func:`main` here.
+:mod:`._commands` (equations, tf, export, draw), :mod:`._simulate`,
+:mod:`._switched` (modes and averages), :mod:`._operating` (operating
+points), :mod:`._sweep`, :mod:`._parser`; :func:`main` here.
 
 Examples
 --------
@@ -39,7 +52,7 @@ from pathlib import Path
 from typing import Optional, Sequence
 
 from ..errors import BondGraphError
-from ..export import EXPORT_FORMATS
+from .._support.formats import EXPORT_FORMATS
 from . import _operating
 from ._common import CLIError, ParamsFileError, UsageError, load_params
 from ._operating import OperatingPointError
@@ -174,7 +187,7 @@ def _message(exc: BaseException) -> str:
 
 def _naming_path(message: str, args) -> str:
     """``message``, prefixed with the model file when it names none of the user's paths."""
-    with_output = args.command in ("export", "draw", "sweep")
+    with_output = args.command in ("export", "draw", "sweep", "simulate")
     keys = ("model", "params", "operating_point") + (("output",) if with_output else ())
     paths = [getattr(args, key, None) for key in keys]      # tf's --output is a signal, not a file
     spellings = set()

@@ -14,9 +14,10 @@ from pathlib import Path
 
 from .._support.labels import latex_dot, latex_name, tex
 from ..errors import NonlinearModelError
-from ..export import EXPORT_FORMATS
+from .._support.formats import EXPORT_FORMATS
 from . import _common
 from . import _operating as _op
+from . import _switched as _sw
 from ._common import CLIError, UsageError, _check_signal, _given, _only, _refuse_overwriting_inputs, _values
 
 __all__ = ["cmd_equations", "cmd_tf", "cmd_export", "cmd_draw", "NUMERIC_EXPORTS",
@@ -38,6 +39,13 @@ def _linear(args) -> bool:
     return bool(getattr(args, "trim", False) or getattr(args, "operating_point", None))
 
 
+def _load(args, command: str):
+    """The model file's definition and the one model the command works on (a switched
+    model's mode or average, refused without a choice)."""
+    defn = _common._load_definition(args.model)
+    return defn, _sw.chosen_model(args, defn, command)
+
+
 def _point_file(args):
     """The operating-point file read before the model (a bad file fails fast), or None."""
     path = getattr(args, "operating_point", None)
@@ -46,9 +54,38 @@ def _point_file(args):
 
 # --------------------------------------------------------------------------- equations
 def cmd_equations(args) -> None:
-    """``bondgraph equations``: states, inputs, outputs, parameters and equations."""
-    defn, model = _common._load(args.model)
-    out = [f"model {model.name!r}" + (f": {defn.description}" if defn.description else "")]
+    """``bondgraph equations``: states, inputs, outputs, parameters and equations.
+
+    A switched model prints every mode (or the one ``--mode``, or the average
+    ``--average``)."""
+    defn = _common._load_definition(args.model)
+    sm = _sw.switched_of(defn)
+    if sm is None or args.mode is not None or args.average is not None:
+        model = _sw.chosen_model(args, defn, "equations")
+        what = ("" if sm is None else f" (mode {args.mode})" if args.mode is not None
+                else f" (state-space average, duty {args.average[0]})")
+        print("\n".join(_equations_text(defn, model, args.latex, what)))
+        return
+    from ..hybrid import ModeError
+
+    out = [f"model {sm.name!r}" + (f": {defn.description}" if defn.description else ""),
+           f"switched: switches {', '.join(sm.switches)}; initial mode {_sw.mode_text(sm, sm.initial)} "
+           f"({sm.initial}); choose one with --mode, or --average DUTY ACTIVE PASSIVE"]
+    for mode in sm.all_modes:
+        out.append("")
+        try:
+            model = sm.derived(mode).user
+        except ModeError:
+            out.append(f"mode {_sw.mode_text(sm, mode)} ({mode}): not consistent (the switch states "
+                       "contradict each other)")
+            continue
+        out.append(f"mode {_sw.mode_text(sm, mode)} ({mode}):")
+        out += ["  " + line if line else "" for line in _equations_text(defn, model, args.latex, "")[1:]]
+    print("\n".join(out))
+
+
+def _equations_text(defn, model, latex: bool, what: str) -> list[str]:
+    out = [f"model {model.name!r}{what}" + (f": {defn.description}" if defn.description else "")]
     units = defn.units
 
     def unit(name: str) -> str:
@@ -64,7 +101,7 @@ def cmd_equations(args) -> None:
               else p.name for p in model.parameters]
     out.append(f"parameters ({len(params)}): {', '.join(params) or '-'}")
     out.append("")
-    if args.latex:
+    if latex:
         # the one LaTeX naming helper of the package (bondgraph._support.labels): \dot{p}_{La}
         lines = [f"{latex_dot(s.name)} &= {tex(r)}" for s, r in zip(model.states, model.rhs)]
         lines += [f"0 &= {tex(g)}" for g in model.residuals]
@@ -74,7 +111,7 @@ def cmd_equations(args) -> None:
         out += [f"d{s.name}/dt = {r}" for s, r in zip(model.states, model.rhs)]
         out += [f"0 = {g}" for g in model.residuals]
         out += [f"{n} = {g}" for n, g in zip(model.output_names, model.output_exprs)]
-    print("\n".join(out))
+    return out
 
 
 # --------------------------------------------------------------------------- tf
@@ -84,7 +121,7 @@ def cmd_tf(args) -> None:
 
     point = _point_file(args)
     given = _given(args)
-    defn, model = _common._load(args.model)
+    defn, model = _load(args, "tf")
     values = _values(defn, model, args.params, given, complete=True) if args.numeric else None
     if _linear(args) and values is not None:
         ss = _op.linear_plant(args, model, values, point)       # numeric plant at the point
@@ -228,7 +265,18 @@ def cmd_export(args) -> None:
                                args)
     point = _point_file(args)
     given = _given(args)
-    defn, model = _common._load(args.model)
+    if fmt == "fmu" and args.mode is None and args.average is None:
+        defn = _common._load_definition(args.model)
+        sm = _sw.switched_of(defn)
+        if sm is not None:          # every mode, with event indicators
+            from ..fmu import export_fmu
+
+            every = dict(defn.parameters)
+            every.update(given or {})
+            export_fmu(sm, out, fmi=args.fmi or 2, kind=args.kind or "both", values=every)
+            print(f"wrote {out} (switched: {len(sm.modes)} modes, switches {', '.join(sm.switches)})")
+            return
+    defn, model = _load(args, f"export -f {fmt}")
     if fmt in NUMERIC_EXPORTS:
         from ..export import export
         from ..numeric import compile_plant
@@ -250,7 +298,7 @@ def cmd_export(args) -> None:
         return
     if fmt == "fmu":
         full = _values(defn, model, args.params, given, complete=True)
-        if defn.units:         # modelDescription.xml with unit attributes and UnitDefinitions
+        if defn.units and _sw.switched_of(defn) is None:         # modelDescription.xml with unit attributes and UnitDefinitions
             from .._support.files import atomic_write
             from ..fmu import build_fmu
             from ..library.units import fmu_with_units
@@ -261,7 +309,8 @@ def cmd_export(args) -> None:
         else:
             from ..fmu import export_fmu
 
-            export_fmu(defn, out, fmi=args.fmi or 2, kind=args.kind or "both", values=full)
+            export_fmu(defn if _sw.switched_of(defn) is None else model, out, fmi=args.fmi or 2,
+                       kind=args.kind or "both", values=full)
         print(f"wrote {out}")
         return
     values = _values(defn, model, args.params, given, complete=False)
@@ -306,7 +355,20 @@ def cmd_draw(args) -> None:
             raise
         raise CLIError("drawing needs bondgraph.drawing (not available in this installation)") from None
     # drawn here and written through atomic_write, so that a failure names the target file
-    diag = drawing.diagram(defn.graph, causality=not args.no_causality)
+    sm = _sw.switched_of(defn)
+    if sm is None:
+        if args.mode is not None:
+            raise UsageError(f"--mode applies to switched models; model {defn.name!r} has no switch")
+        diag = drawing.diagram(defn.graph, causality=not args.no_causality)
+    else:                   # one mode's strokes, each switch's state beside it
+        mode = None if args.mode is None else _sw.to_mode(sm, args.mode)
+        from ..hybrid import ModeError
+
+        try:
+            diag = drawing.diagram(sm, causality=not args.no_causality, mode=mode)
+        except ModeError as exc:
+            raise CLIError(f"--mode {args.mode!r}: {str(exc).split('; the consistent')[0]}; the "
+                           f"consistent modes are {_sw.modes_listing(sm)}") from None
     if getattr(args, "no_prefixes", False):
         from ..drawing.labels import without_prefixes
         diag = without_prefixes(diag)

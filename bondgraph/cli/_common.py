@@ -13,7 +13,6 @@ from pathlib import Path
 from typing import ClassVar, Literal, Mapping, Optional, Sequence, overload
 
 from ..errors import BondGraphError, ParameterValueError
-from ..parameters import match_values
 from .._support.files import ParamsFileError, load_params  # noqa: F401  (the cli's API)
 
 __all__ = ["CLIError", "UsageError", "ParamsFileError", "load_params"]
@@ -35,11 +34,11 @@ class UsageError(CLIError):
 
 
 # --------------------------------------------------------------------------- helpers
-def _load(path: str):
+def _load_definition(path: str):
+    """The model file's :class:`~bondgraph.modelfile.ModelDefinition` (every command loads it here)."""
     from ..modelfile import load_model
 
-    defn = load_model(path)
-    return defn, defn.derive()
+    return load_model(path)
 
 
 def _given(args) -> Optional[dict[str, float]]:
@@ -67,9 +66,11 @@ def _values(defn, model, params_file: Optional[str], given: Optional[Mapping[str
     if given is not None:
         # the package-wide policy: unknown names listed with the valid ones, names the
         # model definition knows but this variant does not use accepted
+        from ..parameters import match_values
+
         try:
             picked = match_values(model.parameters, given, known=model.known_parameters,
-                                  partial=True, where=f"params file '{params_file}': ")
+                                  partial=True, inputs=[s.name for s in model.inputs], where=f"params file '{params_file}': ")
         except ParameterValueError as exc:
             raise CLIError(str(exc)) from None
         values.update({p.name: v for p, v in picked.items()})

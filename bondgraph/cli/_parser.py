@@ -12,12 +12,18 @@ from __future__ import annotations
 
 import argparse
 
-from ..export import EXPORT_FORMATS
-from . import _operating
+from .._support.formats import EXPORT_FORMATS
+from . import _operating, _simulate, _switched
 from ._commands import cmd_draw, cmd_equations, cmd_export, cmd_tf
 from ._sweep import cmd_sweep
 
-__all__ = ["build_parser"]
+__all__ = ["build_parser", "SWEEP_DESIGNS", "SWEEP_METRICS"]
+
+#: the designs and metrics of :mod:`bondgraph.study` (written here so that ``--help`` does not
+#: import the study package; tests/cli/test_switched_cli.py checks they are the same)
+SWEEP_DESIGNS = ("sobol", "lhs", "halton", "grid", "random")
+SWEEP_METRICS = ("max_real", "min_damping", "dc_gain", "peak_gain", "bandwidth", "overshoot",
+                 "settling_time", "step")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -50,6 +56,7 @@ def build_parser() -> argparse.ArgumentParser:
                                    "(with default values) and equations x' = f(x, u), y = g(x, u).")
     p.add_argument("model", metavar="MODEL", help="model file (.py)")
     p.add_argument("--latex", action="store_true", help="print the equations as LaTeX (aligned)")
+    _switched.add_arguments(p)
     p.set_defaults(func=cmd_equations)
 
     p = sub.add_parser("tf", help="print a transfer function",
@@ -68,6 +75,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "print poles and zeros")
     p.add_argument("--params", metavar="FILE", help="parameter values, JSON or TOML")
     _operating.add_arguments(p)
+    _switched.add_arguments(p)
     p.set_defaults(func=cmd_tf)
 
     p = sub.add_parser("export", help="export a numeric plant or generate code",
@@ -90,6 +98,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="FMU: Model Exchange, Co-Simulation (fixed-step RK4) or both (default)")
     p.add_argument("-o", "--output", metavar="OUT", required=True, help="output file")
     _operating.add_arguments(p)
+    _switched.add_arguments(p)
     p.set_defaults(func=cmd_export)
 
     p = sub.add_parser("draw", help="draw the bond graph (SVG, PNG or TikZ)",
@@ -116,10 +125,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="labels without sub-model prefixes (I:m_1 for I:link.m_1)")
     p.add_argument("--no-numbers", action="store_true", help="omit the bond numbers")
     p.add_argument("--latex", action="store_true", help="TikZ: element names as LaTeX math")
+    _switched.add_arguments(p, average=False)
     p.set_defaults(func=cmd_draw)
-
-    from ..study.design import DESIGNS
-    from ..study.metrics import BUILTIN
+    _simulate.add_parser(sub)
 
     p = sub.add_parser("sweep", help="parameter study: sample parameters, tabulate plant metrics",
                        description="Vary the parameters of the study file's [sweep] table (bounds, "
@@ -132,11 +140,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--params", metavar="FILE", required=True,
                    help="study file, TOML or JSON: [sweep] ranges, [values], [study] options")
     p.add_argument("--n", type=int, metavar="N", help="number of samples (default 1024)")
-    p.add_argument("--design", choices=DESIGNS, help="sampling design (default sobol)")
+    p.add_argument("--design", choices=SWEEP_DESIGNS, help="sampling design (default sobol)")
     p.add_argument("--seed", type=int, metavar="S", help="design seed (default: a fresh one, "
                                                          "printed)")
-    p.add_argument("--metric", action="append", choices=list(BUILTIN), metavar="NAME",
-                   help=f"metric, repeatable: {', '.join(BUILTIN)}")
+    p.add_argument("--metric", action="append", choices=SWEEP_METRICS, metavar="NAME",
+                   help=f"metric, repeatable: {', '.join(SWEEP_METRICS)}")
     p.add_argument("--input", "-u", metavar="U", help="input of channel metrics (gains, step)")
     p.add_argument("--output-signal", "-y", metavar="Y", help="output of channel metrics")
     p.add_argument("--workers", type=int, metavar="K", help="run on K local worker processes")

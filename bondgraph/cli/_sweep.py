@@ -78,6 +78,13 @@ def cmd_sweep(args) -> None:
     from ..modelfile import load_model
 
     defn = load_model(args.model)
+    from ._switched import modes_listing, switched_of
+
+    sm = switched_of(defn)
+    if sm is not None:          # never the plant of the mode the graph was built in, silently
+        raise CLIError(f"model {sm.name!r} is switched (switches {', '.join(sm.switches)}; modes "
+                       f"{modes_listing(sm)}): 'sweep' studies one linear plant; write a model file "
+                       "whose model() is one mode or the average (SwitchedModel.mode, .average)")
     executor, close = _sweep_executor(args)
     try:
         with warnings.catch_warnings(record=True) as caught:

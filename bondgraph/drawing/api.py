@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Optional, Union
+from typing import Any, Optional, Union
 
 from ..errors import BondGraphError
 from .scene import build_scene
@@ -38,15 +38,17 @@ def draw(obj: Drawable, path: Union[str, os.PathLike, None] = None, *,
          fmt: Optional[str] = None, causality: bool = True, expand: bool = True,
          wrap: int = 14, dpi: float = 150.0, standalone: bool = True,
          max_width: Optional[float] = 17.0, font_pt: float = 8.0, title: bool = True,
-         prefixes: bool = True, numbers: bool = True, latex: bool = False) -> str:
+         prefixes: bool = True, numbers: bool = True, latex: bool = False,
+         mode: Any = None) -> str:
     """Draw a bond graph (augmented with causal strokes) as SVG or TikZ, optionally to a file.
 
     Parameters
     ----------
-    obj : BondGraph, AugmentedBondGraph, FlatGraph or Model
+    obj : BondGraph, AugmentedBondGraph, FlatGraph, Model or SwitchedModel
         What to draw.  A :class:`~bondgraph.BondGraph` gets causality assigned
         when ``causality`` is true; a :class:`~bondgraph.Model` is drawn from
-        its ``augmented`` graph.
+        its ``augmented`` graph; a :class:`bondgraph.hybrid.SwitchedModel` in
+        one mode (``mode``), each switch marked ``on`` or ``off``.
     path : str or path-like, optional
         File to write; the format comes from ``fmt`` or else the suffix
         (``.svg``, ``.png`` or ``.tex``).  The file is replaced atomically.
@@ -90,6 +92,9 @@ def draw(obj: Drawable, path: Union[str, os.PathLike, None] = None, *,
     latex : bool
         TikZ only: element names as LaTeX math (``I:$m_{1}$``, see
         :func:`~bondgraph.drawing.tikz.latex_label`).
+    mode : Mode or mapping with keys ``'on'`` and ``'off'``, optional
+        Switched models: the mode whose causal strokes are drawn (default:
+        the initial mode, the states the switches are built in).
 
     Returns
     -------
@@ -124,13 +129,17 @@ def draw(obj: Drawable, path: Union[str, os.PathLike, None] = None, *,
     >>> tikz = draw(g, fmt="tex", standalone=False)
     >>> tikz.count("\\\\begin{tikzpicture}"), "documentclass" in tikz
     (1, False)
+    >>> from bondgraph.hybrid import SwitchedModel, library
+    >>> svg = draw(SwitchedModel(library.buck()))           # the initial mode: S on, D off
+    >>> "buck (D off, S on)" in svg and "CSw:S" in svg
+    True
     """
     form = None
     if path is not None:
         form = _format(path, fmt)
     elif fmt is not None and fmt.lower() not in _FORMATS:
         raise DrawingError(f"unknown drawing format {fmt!r}; expected one of {', '.join(_FORMATS)}")
-    diag = diagram(obj, causality=causality, expand=expand)
+    diag = diagram(obj, causality=causality, expand=expand, mode=mode)
     if len(diag.nodes) > MAX_DRAW_ELEMENTS:
         raise DrawingError(
             f"model {diag.name!r} has {len(diag.nodes):,} elements to draw, more than "

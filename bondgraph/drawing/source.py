@@ -22,8 +22,8 @@ Examples
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from typing import Optional, Union
+from dataclasses import dataclass, replace
+from typing import Any, Optional, Union
 
 from ..causality import AugmentedBondGraph, assign_causality
 from ..errors import BondGraphError
@@ -182,19 +182,26 @@ class Diagram:
         raise KeyError(name)
 
 
-def diagram(obj: Drawable, *, causality: bool = True, expand: bool = True) -> Diagram:
+def diagram(obj: Drawable, *, causality: bool = True, expand: bool = True,
+            mode: Any = None) -> Diagram:
     """The nodes and bonds to draw for a bond graph or a derived model.
 
     Parameters
     ----------
-    obj : BondGraph, AugmentedBondGraph, FlatGraph or Model
+    obj : BondGraph, AugmentedBondGraph, FlatGraph, Model or SwitchedModel
         A builder graph (causality is assigned if asked), a causal graph, a
         flattened graph, or a derived model (its ``augmented`` graph is drawn).
+        A switched model (anything answering ``drawing_mode(mode)``, such as
+        :class:`bondgraph.hybrid.SwitchedModel`) is drawn in one mode: the
+        strokes of that mode, each switch's state (``on``/``off``) beside it,
+        the mode in the title.
     causality : bool
         Show causal strokes (assigning causality when ``obj`` has none).
     expand : bool
         Draw sub-models expanded (hierarchical names); with False, each
         sub-model of a :class:`BondGraph` is one box and its ports are bond ends.
+    mode : Mode or mapping with keys ``'on'`` and ``'off'``, optional
+        Switched models only: the mode to draw (default: the initial one).
 
     Returns
     -------
@@ -214,7 +221,22 @@ def diagram(obj: Drawable, *, causality: bool = True, expand: bool = True) -> Di
     >>> d = diagram(g, causality=False)
     >>> d.causal, d.edges[0].stroke_end is None
     (False, True)
+    >>> from bondgraph.hybrid import SwitchedModel, library
+    >>> d = diagram(SwitchedModel(library.buck()), mode={"on": {"D"}, "off": {"S"}})
+    >>> d.name, d.node("S").note, d.node("D").note
+    ('buck (D on, S off)', 'off', 'on')
     """
+    as_mode = getattr(obj, "drawing_mode", None)
+    if callable(as_mode) and not isinstance(obj, (Model, BondGraph, AugmentedBondGraph, FlatGraph)):
+        if not expand:
+            raise DrawingError("expand=False: a switched model is drawn flattened, one mode at a time")
+        chosen, aug, states = as_mode(mode)
+        d = _from_flat(aug.flat, aug if causality else None)
+        nodes = tuple(replace(n, note="on" if states[n.name] else "off") if n.name in states else n
+                      for n in d.nodes)
+        return replace(d, name=f"{d.name} ({chosen})", nodes=nodes)
+    if mode is not None:
+        raise DrawingError(f"mode= applies to switched models; got a {type(obj).__name__}")
     if isinstance(obj, Model):
         obj = obj.augmented
     if isinstance(obj, BondGraph):
@@ -233,7 +255,7 @@ def diagram(obj: Drawable, *, causality: bool = True, expand: bool = True) -> Di
             return _from_flat(obj, assign_causality(obj) if causality else None)
         return _from_flat(obj.flat, obj if causality else None)
     raise TypeError(
-        "draw() takes a BondGraph, AugmentedBondGraph, FlatGraph or Model; got "
+        "draw() takes a BondGraph, AugmentedBondGraph, FlatGraph, Model or SwitchedModel; got "
         f"{type(obj).__name__} {obj!r}"
     )
 

@@ -116,11 +116,9 @@ __all__ = ["ExportError", "FORMAT_NAME", "FORMAT_VERSION", "export", "export_mat
 
 FORMAT_NAME = "bondgraph-statespace"
 FORMAT_VERSION = 1
-#: file suffix -> format name understood by :func:`export` (numeric plants)
-FORMATS = {".mat": "mat", ".npz": "npz", ".json": "json"}
-#: file suffix -> every format ``bondgraph export`` writes: the plant formats above, generated
-#: code (C with its header, MATLAB/Octave, Python) and FMUs; the one table the CLI reads
-EXPORT_FORMATS = {**FORMATS, ".c": "c", ".m": "m", ".py": "py", ".fmu": "fmu"}
+#: file suffix -> format name understood by :func:`export` (numeric plants); and every format
+#: ``bondgraph export`` writes (one table, in a module the command line reads without numpy)
+from .._support.formats import EXPORT_FORMATS, FORMATS  # noqa: E402
 
 from .._support.files import (ExportError, HugeInt, PathLike, short_repr, target_path, unlink_quietly, atomic_write,  # noqa: F401
                     atomic_write_many, checked_path, decode_json, number_problem)

@@ -28,8 +28,8 @@ from .contact import Contact, Slip
 from .junctions import SwitchedOne, SwitchedZero
 from .errors import ChatteringError, EventBudgetError, HybridError, ModeError
 from .modes import Mode, ModeModel, ModeSet
-from .switched import SwitchedModel, derive_switched
-from .events import SwitchEvent, SwitchedResult, simulate
+from .switched import SwitchedModel, derive_switched, simulate
+from .events import SwitchEvent, SwitchedResult
 from .averaging import average
 
 __all__ = [

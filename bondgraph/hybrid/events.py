@@ -48,6 +48,7 @@ from typing import Any, Mapping, Optional, Sequence
 import numpy as np
 
 from ._options import check_options
+from ._result import SwitchedResponse
 from .modes import Mode, ModeSet
 
 __all__ = ["simulate", "SwitchedResult", "SwitchEvent"]
@@ -79,8 +80,10 @@ class SwitchEvent:
 
 
 @dataclass(frozen=True)
-class SwitchedResult:
-    """A switched simulation: samples, modes and events.
+class SwitchedResult(SwitchedResponse):
+    """A switched simulation: samples, modes and events; indexed by signal name
+    (``res["v"]``), with ``to_dataframe()`` and ``plot()`` (see
+    :class:`~bondgraph.numeric.result.TimeResponse`).
 
     Attributes
     ----------
@@ -96,6 +99,8 @@ class SwitchedResult:
     modes : tuple of Mode
         The modes visited, in order of first visit.
     events : tuple of SwitchEvent
+    inputs : dict of str to ndarray
+        The inputs at the samples (filled by :func:`bondgraph.simulate`).
     """
 
     t: np.ndarray
@@ -104,6 +109,7 @@ class SwitchedResult:
     mode_index: np.ndarray
     modes: tuple
     events: tuple
+    inputs: dict = field(default_factory=dict)
 
     @property
     def energy_loss(self) -> float:

@@ -36,7 +36,7 @@ from typing import TYPE_CHECKING, Mapping, Optional
 import numpy as np
 
 from ..errors import ParameterValueError
-from ..parameters import ParameterValues, match_values, real_value, note_inputs
+from ..parameters import ParameterValues, match_values, real_value
 from ..elements.rules import check_model_values
 from ..signals import t as T_SYM
 from .operating import Equilibrium, EquilibriumError, _named
@@ -91,10 +91,8 @@ def implicit_equilibrium(model: "Model", values: ParameterValues, inputs: Option
     from . import trim as _trim
 
     tol = _trim.check_tol(tol, where, EquilibriumError)
-    try:
-        params = match_values(model.parameters, values, known=model.known_parameters, where=where)
-    except ParameterValueError as exc:
-        raise note_inputs(exc, model.input_names) from None
+    params = match_values(model.parameters, values, known=model.known_parameters, where=where,
+                          inputs=model.input_names)
     pvals = {p: real_value(v, p.name, where) for p, v in params.items()}
     check_model_values(model, {p.name: v for p, v in pvals.items()}, where=where)
     u0 = {u: 0.0 for u in model.inputs}

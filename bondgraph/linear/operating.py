@@ -38,7 +38,7 @@ import sympy
 
 from ..errors import NonlinearModelError
 from ..errors import ParameterValueError
-from ..parameters import ParameterValues, match_values, real_value, note_inputs
+from ..parameters import ParameterValues, match_values, real_value
 from ..elements.rules import check_model_values
 from ..signals import t as T_SYM
 
@@ -216,10 +216,8 @@ def equilibrium(model: "Model", values: ParameterValues, inputs: Optional[Mappin
             raise EquilibriumError(f"{where}the state equations depend on "
                                    f"{', '.join(sorted(map(str, ex.free_symbols & bad)))}; "
                                    "an equilibrium needs a time-invariant model")
-    try:
-        params = match_values(model.parameters, values, known=model.known_parameters, where=where)
-    except ParameterValueError as exc:
-        raise note_inputs(exc, model.input_names) from None
+    params = match_values(model.parameters, values, known=model.known_parameters, where=where,
+                          inputs=model.input_names)
     pvals = {p: real_value(v, p.name, where) for p, v in params.items()}
     check_model_values(model, {p.name: v for p, v in pvals.items()}, where=where)
     u0 = {u: 0.0 for u in model.inputs}

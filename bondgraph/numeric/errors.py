@@ -30,6 +30,8 @@ class ImproperPlantError(NumericError):
     """A plant with input-derivative feedthrough (``D_derivatives`` nonzero) was asked
     for a form that cannot hold it (python-control or scipy ``StateSpace``)."""
 
+    __module__ = "bondgraph"      # tracebacks name it where users import it: bondgraph.ImproperPlantError
+
 
 class NotPicklableError(NumericError, pickle.PicklingError):
     """A compiled model cannot be pickled: its equations call a Python function

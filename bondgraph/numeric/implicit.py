@@ -43,7 +43,7 @@ from ..equations import StateEquations
 from ..errors import BondGraphError
 from ..linear import Equilibrium, EquilibriumError
 from ..errors import ParameterValueError
-from ..parameters import ParameterValues, match_values, real_value, note_inputs
+from ..parameters import ParameterValues, match_values, real_value
 from ..elements.rules import check_model_values
 from ..signals import t as T_SYM
 from ._compile import CompiledFunction, guard_user_functions, placeholders
@@ -247,10 +247,8 @@ def implicit_plant(model: StateEquations, point: Any, inputs: Optional[Mapping],
     if missing:
         raise EquilibriumError(f"{where}the operating point gives no value for the state(s) "
                                f"{', '.join(missing)}")
-    try:
-        params = match_values(model.parameters, values, known=model.known_parameters, where=where)
-    except ParameterValueError as exc:
-        raise note_inputs(exc, model.input_names) from None
+    params = match_values(model.parameters, values, known=model.known_parameters, where=where,
+                          inputs=model.input_names)
     pvals = {p: real_value(v, p.name, where) for p, v in params.items()}
     check_model_values(model, {p.name: v for p, v in pvals.items()}, where=where)
     at = {**{s: float(x0[s.name]) for s in model.states},

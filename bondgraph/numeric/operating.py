@@ -26,7 +26,7 @@ from ..errors import BondGraphError
 from ..linear import Equilibrium, EquilibriumError, linearize
 from ..linear.operating import equilibrium_scaled
 from ..errors import ParameterValueError
-from ..parameters import ParameterValues, match_values, real_value, note_inputs
+from ..parameters import ParameterValues, match_values, real_value
 from ..elements.rules import check_model_values
 from .implicit import implicit_plant
 from .statespace import NumericStateSpace
@@ -77,10 +77,8 @@ def _linear_plant(model: StateEquations, point: Equilibrium | Mapping, inputs: O
             raise BondGraphError(f"{where}give the inputs in the Equilibrium, not again as u0")
     else:
         x0, u0 = dict(point or {}), dict(inputs or {})
-    try:
-        params = match_values(model.parameters, values, known=model.known_parameters, where=where)
-    except ParameterValueError as exc:
-        raise note_inputs(exc, model.input_names) from None
+    params = match_values(model.parameters, values, known=model.known_parameters, where=where,
+                          inputs=model.input_names)
     pvals = {p: sympy.Float(real_value(v, p.name, where), 17) for p, v in params.items()}
     check_model_values(model, {p.name: float(v) for p, v in pvals.items()}, where=where)
     if _at_kink(model, x0, u0, pvals):

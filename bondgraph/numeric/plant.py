@@ -321,7 +321,8 @@ class NumericModel(_CompiledModel):
         """
         as_sparse = self._is_sparse(sparse)
         vec = resolve_parameters(self._params, values, model=self._model.name,
-                                 known=self._known_parameters(), inputs=self.input_names)
+                                 known=self._known_parameters(),
+                                 inputs=[s.name for s in self._model.inputs])
         check_model_values(self._model, dict(zip(self.parameter_names, vec)),
                            where=f"model {self._model.name!r}: ")
         vals = self._evaluate([np.float64(v) for v in vec], None)

@@ -25,7 +25,7 @@ from typing import Any, Iterable, Mapping, Sequence, Union
 import numpy as np
 import sympy
 
-from ..parameters import ParameterValues, match_values, note_inputs, parameter_name, real_value
+from ..parameters import ParameterValues, match_values, parameter_name, real_value
 from .errors import ParameterValueError
 
 __all__ = ["ParameterValues", "resolve_parameters", "resolve_batch", "parameter_name"]
@@ -34,11 +34,8 @@ __all__ = ["ParameterValues", "resolve_parameters", "resolve_batch", "parameter_
 def _match(parameters: Sequence[sympy.Symbol], values: Mapping, where: str,
            known: Iterable[str] = (), inputs: Iterable[str] = ()) -> dict[str, Any]:
     # matched by name: the model's own symbols serve (no Symbol built per name and call)
-    try:
-        matched = match_values(parameters, values, known=known, where=where)
-    except ParameterValueError as exc:
-        raise note_inputs(exc, inputs) from None      # an input given as a parameter says so
-    return {p.name: v for p, v in matched.items()}
+    return {p.name: v for p, v in match_values(parameters, values, known=known,
+                                               where=where, inputs=inputs).items()}
 
 
 def _scalar(value: Any, name: str, where: str) -> float:
@@ -62,7 +59,7 @@ def resolve_parameters(parameters: Sequence[sympy.Symbol], values: ParameterValu
         Names the model definition knows beyond ``parameters``; their values
         are accepted and ignored (see :mod:`bondgraph.parameters`).
     inputs : iterable of str, optional
-        The model's input names: one given as a parameter is named as an input.
+        The model's input names (one given as a parameter is named as an input).
 
     Returns
     -------

@@ -38,6 +38,7 @@ from ._field_values import check_fields_at
 from ._stiffness import check_stiffness
 from .errors import NumericError, SimulationError
 from .resolve import ParameterValues, resolve_parameters
+from .result import TimeResponse
 from . import arguments
 from .arguments import METHODS, InputSpec
 from .implicit import with_algebraic
@@ -130,8 +131,8 @@ class NumericDynamics(_CompiledModel):
     def parameter_vector(self, values: ParameterValues) -> np.ndarray:
         """Checked parameter values in order (see :func:`~bondgraph.numeric.resolve_parameters`)."""
         return resolve_parameters(self._params, values, model=self._model.name,
-                                  known=self._model.known_parameters,
-                                  inputs=self._model.input_names)
+                                  inputs=[s.name for s in self._model.inputs],
+                                  known=self._model.known_parameters)
 
     def derivatives(self, t: float, x, u, p) -> np.ndarray:
         """``x'`` at time ``t``, state ``x`` (n,), input ``u`` (m,) and parameters ``p`` (k,).
@@ -200,8 +201,12 @@ def compile_dynamics(model: StateEquations) -> NumericDynamics:
 
 
 @dataclass(frozen=True, eq=False)
-class SimulationResult:
+class SimulationResult(TimeResponse):
     """Time histories from :func:`simulate` (time along the first axis).
+
+    A :class:`~bondgraph.numeric.result.TimeResponse`: ``res["v"]`` is the
+    history of the output, state or input ``v``; :meth:`to_dataframe` and
+    :meth:`plot` give a table and a plot; ``events`` is empty.
 
     Attributes
     ----------
@@ -245,15 +250,10 @@ class SimulationResult:
         values["parameters"] = dict(self.parameters)      # a mappingproxy does not pickle
         return (_rebuild_result, (values,))
 
-    def __getitem__(self, name: str) -> np.ndarray:
-        """The history of the output, state or input called ``name`` (searched in that order)."""
-        for names, data in ((self.output_names, self.y), (self.state_names, self.x),
-                            (self.input_names, self.u)):
-            if name in names:
-                return data[:, names.index(name)]
-        raise KeyError(f"no output, state or input named {name!r}; outputs: "
-                       f"{', '.join(self.output_names) or '-'}; states: {', '.join(self.state_names)}; "
-                       f"inputs: {', '.join(self.input_names) or '-'}")
+    def _signals(self):
+        return (("output", dict(zip(self.output_names, self.y.T))),
+                ("state", dict(zip(self.state_names, self.x.T))),
+                ("input", dict(zip(self.input_names, self.u.T))))
 
 
 def _rebuild_result(values: dict) -> SimulationResult:
@@ -309,14 +309,27 @@ def _check_history(dyn: NumericDynamics, t: np.ndarray, data: np.ndarray, names:
             "state overflowed")
 
 
-def simulate(model: Union[StateEquations, NumericDynamics], values: ParameterValues,
+def simulate(model: Union[StateEquations, NumericDynamics, Any], values: ParameterValues,
              t_span: tuple[float, float],
              x0: Union[None, Sequence[float], np.ndarray, Mapping[str, float]] = None,
              *, u: InputSpec = None, t_eval: Optional[Sequence[float]] = None,
-             method: Union[str, type] = "RK45", rtol: float = 1e-6,
-             atol: Union[float, Sequence[float], np.ndarray] = 1e-9,
-             max_step: Optional[float] = None) -> SimulationResult:
-    """Integrate a (possibly nonlinear) model with :func:`scipy.integrate.solve_ivp`.
+             method: Union[str, type] = "RK45", rtol: Optional[float] = None,
+             atol: Union[None, float, Sequence[float], np.ndarray] = None,
+             max_step: Optional[float] = None, max_events: Optional[int] = None,
+             time_budget: Optional[float] = None, chatter_count: Optional[int] = None,
+             chatter_time: Optional[float] = None,
+             guard_tol: Optional[float] = None) -> TimeResponse:
+    """Simulate any model: smooth, implicit (algebraic unknowns) or switched (with events).
+
+    The one form of simulation: ``simulate(model, values, t_span, x0, u=...)``
+    for every kind of model, returning a
+    :class:`~bondgraph.numeric.result.TimeResponse` (``res.t``, ``res["v"]``
+    for any output, state or input, ``res.events``, ``res.to_dataframe()``,
+    ``res.plot()``).  A smooth or implicit model is integrated with
+    :func:`scipy.integrate.solve_ivp` and gives a :class:`SimulationResult`;
+    a switched model (:class:`bondgraph.hybrid.SwitchedModel`) is integrated
+    mode by mode with events (:mod:`bondgraph.hybrid.events`) and gives a
+    :class:`~bondgraph.hybrid.SwitchedResult`.
 
     Every argument is checked before integrating; a derivative, state or
     output that is not finite stops the simulation at once with an error
@@ -325,12 +338,12 @@ def simulate(model: Union[StateEquations, NumericDynamics], values: ParameterVal
 
     Parameters
     ----------
-    model : StateEquations or NumericDynamics
+    model : StateEquations, NumericDynamics or SwitchedModel
         Pass a :class:`NumericDynamics` to reuse its compiled functions.  A
-        switched model (:class:`bondgraph.hybrid.SwitchedModel`) is simulated
-        with events by :func:`bondgraph.hybrid.simulate` (``u`` then maps
-        input names to numbers or functions of time) and returns its
-        :class:`~bondgraph.hybrid.SwitchedResult`.
+        switched model takes its inputs ``u`` as a mapping of input names to
+        numbers or functions of time, and its initial state ``x0`` as a
+        mapping (stored quantities such as ``p_L``, ``q_C``, or an output
+        that is one displacement or momentum).
     values : mapping of Symbol or str to float
         Parameter values: exactly the model's parameters.
     t_span : (float, float)
@@ -353,16 +366,26 @@ def simulate(model: Union[StateEquations, NumericDynamics], values: ParameterVal
         A ``solve_ivp`` method, one of :data:`METHODS`: ``"RK45"``,
         ``"RK23"``, ``"DOP853"``, ``"Radau"``, ``"BDF"``, ``"LSODA"``.
     rtol : float, optional
-        Relative tolerance, ``0 < rtol < 1``.
+        Relative tolerance, ``0 < rtol < 1``; default 1e-6 (switched models
+        1e-9: event times are located to it).
     atol : float or array_like, optional
-        Absolute tolerance, ``> 0``: one number, or one per state.
+        Absolute tolerance, ``> 0``: one number, or one per state; default
+        1e-9 (switched models 1e-12).
     max_step : float, optional
         Largest step, ``> 0``; with sampled inputs the default is the smallest
         sample spacing, otherwise unbounded.
+    max_events, time_budget, chatter_count, chatter_time, guard_tol : optional
+        Switched models only (see :func:`bondgraph.hybrid.events.simulate`):
+        the event budget, a wall-time budget in seconds, the chattering
+        detection (``chatter_count`` events of one switch within
+        ``chatter_time``) and the tolerance of a guard.
 
     Returns
     -------
-    SimulationResult
+    TimeResponse
+        :class:`SimulationResult` (smooth and implicit models) or
+        :class:`~bondgraph.hybrid.SwitchedResult` (switched models, with
+        ``events``).
 
     Raises
     ------
@@ -394,10 +417,17 @@ def simulate(model: Union[StateEquations, NumericDynamics], values: ParameterVal
     """
     from scipy.integrate import solve_ivp
 
+    events = {"max_events": max_events, "time_budget": time_budget, "chatter_count": chatter_count,
+              "chatter_time": chatter_time, "guard_tol": guard_tol}
     switched = getattr(model, "simulate_with_events", None)
     if switched is not None:       # a switched model (bondgraph.hybrid) runs its own event loop
-        return switched(values, t_span, x0, u=u, t_eval=t_eval, method=method, rtol=rtol,
-                        atol=atol, max_step=max_step)
+        return switched(values, t_span, x0, u=u, t_eval=t_eval, method=method,
+                        rtol=1e-9 if rtol is None else rtol, atol=1e-12 if atol is None else atol,
+                        max_step=max_step, **events)
+    given = [k for k, v in events.items() if v is not None]
+    if given:
+        raise NumericError(f"{', '.join(given)} apply to switched models (with events) only; "
+                           f"model {getattr(model, 'name', '?')!r} has no switch")
     dyn = model if isinstance(model, NumericDynamics) else NumericDynamics(model)
     p = dyn.parameter_vector(values)
     check_fields_at(dyn.model, values, dyn.parameter_names, p.tolist())   # as plant() does
@@ -407,7 +437,8 @@ def simulate(model: Union[StateEquations, NumericDynamics], values: ParameterVal
     ufun, spacing = arguments.input_function(u, m, dyn.input_names)
     times = arguments.eval_times(t_eval, t0, t1, len(dyn.state_names) + len(dyn.output_names) + m)
     solver = arguments.solver(method)
-    r_tol, a_tol = arguments.tolerances(rtol, atol, len(dyn.state_names))
+    r_tol, a_tol = arguments.tolerances(1e-6 if rtol is None else rtol,
+                                        1e-9 if atol is None else atol, len(dyn.state_names))
     step = arguments.step_limit(max_step, spacing)
     ufun(t0)  # check the input's shape before integrating
     label = solver if isinstance(solver, str) else solver.__name__

@@ -211,7 +211,7 @@ def test_output_may_not_replace_an_input(tmp_path, capsys):
 
 
 def test_output_suffix_checked_before_any_work(tmp_path, outdir, capsys, monkeypatch):
-    monkeypatch.setattr(cli._common, "_load", lambda path: pytest.fail("the model was loaded"))
+    monkeypatch.setattr(cli._common, "_load_definition", lambda path: pytest.fail("the model was loaded"))
     assert f"C output '{outdir / 'm.txt'}' must end in .c" in failed(
         capsys, "export", MOTOR, "-f", "c", "-o", outdir / "m.txt")
     assert "Python output" in failed(capsys, "export", MOTOR, "-f", "py", "-o", outdir / "m.txt")
@@ -355,7 +355,7 @@ def test_usage_errors_exit_2(outdir, capsys):
 def test_unexpected_exception_is_reported_without_traceback(capsys, monkeypatch):
     def boom(*args, **kwargs):
         raise RuntimeError("something inside broke")
-    monkeypatch.setattr(cli._common, "_load", boom)
+    monkeypatch.setattr(cli._common, "_load_definition", boom)
     err = failed(capsys, "equations", MOTOR)
     assert err == f"error: model file '{MOTOR}': RuntimeError: something inside broke\n"
 

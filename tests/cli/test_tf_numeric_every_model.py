@@ -16,6 +16,7 @@ import pytest
 
 import bondgraph as bg
 from bondgraph.cli import main
+from bondgraph.cli._switched import mode_text, switched_of
 from bondgraph.modelfile import load_model
 
 MODELS = sorted((Path(__file__).resolve().parents[2] / "models").glob("*.py"))
@@ -25,6 +26,12 @@ def _signals(path: Path):
     definition = load_model(str(path))
     model = bg.derive(definition.graph, outputs=definition.outputs)
     return [(u, y) for u in model.input_names for y in model.output_names]
+
+
+def _mode(path: Path) -> list[str]:
+    """``--mode`` with the built mode for a switched model file (tf refuses it without one)."""
+    sm = switched_of(load_model(str(path)))
+    return [] if sm is None else ["--mode", mode_text(sm, sm.initial)]
 
 
 CASES = [(path, u, y) for path in MODELS for u, y in _signals(path)]
@@ -44,7 +51,7 @@ def test_every_model_is_covered():
 
 @pytest.mark.parametrize("path, u, y", CASES, ids=[f"{p.stem}:{y}" for p, _, y in CASES])
 def test_numeric_tf_of_every_output(path, u, y):
-    status, out, err = _run("tf", str(path), "--input", u, "--output", y, "--numeric")
+    status, out, err = _run("tf", str(path), "--input", u, "--output", y, "--numeric", *_mode(path))
     assert status == 0, err
     assert out.startswith(f"{y}/{u} =")
     assert "error" not in err
@@ -75,6 +82,7 @@ def test_zero_transfer_function_needs_no_values():
     two inertias).  A parameter left in the polynomial domain after the cancellation
     (J2) once made the numeric form ask for a value it does not use."""
     clutch = next(p for p in MODELS if p.name == "clutch.py")
-    status, out, err = _run("tf", str(clutch), "--input", "tau", "--output", "w2", "--numeric")
+    status, out, err = _run("tf", str(clutch), "--input", "tau", "--output", "w2", "--numeric",
+                            "--mode", "on=K")
     assert status == 0, err
     assert out.startswith("w2/tau = 0")

@@ -33,6 +33,8 @@ class FieldError(LawError):
     matters, its ports.
     """
 
+    __module__ = "bondgraph"      # tracebacks name it where users import it: bondgraph.FieldError
+
 
 def no_signals(expr: sympy.Expr, owner: str, what: str) -> None:
     dyn = sorted(str(s) for s in expr.free_symbols if isinstance(s, Signal) or s == T_SYM)
