@@ -231,7 +231,7 @@ class TemperatureSource(SourceComponent):
     domain = "thermal"
     port_domains = {"p": "thermal"}
     #: a temperature is the effort of both thermal graphs: the port takes the domain of
-    #: what it is bonded to (:mod:`bondgraph.domains`)
+    #: what it is bonded to (:mod:`bondgraph.flatten`)
     port_domain_choices = {"p": ("thermal", "thermal (entropy)")}
     law = "T = T_s (an effort source)"
     reference = _KMR

@@ -23,7 +23,7 @@ import sympy.physics.units as u
 
 from ...errors import BondGraphError
 from ...flatten import FlatGraph, flatten
-from ...domains import DomainError, given_seeds, infer_domains
+from ...flatten import DomainError, given_seeds, infer_domains
 from ...graph import BondGraph
 from ...elements.protocol import Element, LocalVariables
 from ...signals import t as T_SYM
@@ -118,7 +118,7 @@ def bond_domains(graph: Union[BondGraph, FlatGraph], *,
                  domains: Optional[Mapping[Union[str, int], str]] = None) -> dict[int, str]:
     """The domain of each bond (flat bond number -> domain name) that can be inferred.
 
-    The inference of :mod:`bondgraph.domains` (which :func:`bondgraph.flatten`
+    The inference of :mod:`bondgraph.flatten` (which :func:`bondgraph.flatten`
     runs on every graph), with the ``domains`` a user names as further seeds.
 
     Parameters
