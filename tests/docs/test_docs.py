@@ -2,7 +2,7 @@
 
 ``test_site_builds`` runs ``sphinx-build -W --keep-going -b html docs <tmp>``
 in a subprocess (the API reference generated from the docstrings, the user
-guide, the five notebooks executed by myst-nb) and looks at a few pages.  It
+guide, the notebooks executed by myst-nb) and looks at a few pages.  It
 is one test on purpose: under ``pytest -n 2`` a fixture shared by several
 tests would build the site once per worker.
 
