@@ -98,7 +98,7 @@ def test_feature_table_links_every_capability_to_a_page_of_the_site():
 MOVED = {
     "conventions.md": ["`sympify` runs strictly in the whole package",
                        "(the load inertia of another\n  variant",
-                       'bg.TF("gear", 1/N)', "backtracks on a conflict"],
+                       'bg.TF("gear", 1/N)', "SCAP backtracks on\n  a conflict"],
     "pipeline.md": ["tests/house/test_layering.py", "position outputs as state combinations"],
     "elements.md": ["port-Hamiltonian form | `energy_signals`", "an open\ndifferential",
                     "the first failing parameter\nset"],
