@@ -64,7 +64,16 @@ def element_classes() -> dict[str, list[type[Element]]]:
 
     A class is concrete when it declares its own ``kind`` (its drawing label);
     base classes (``Element``, ``OnePort``, ``SwitchElement``, ...) are left out.
-    Returns ``{module: [classes in the order of its __all__]}``.
+
+    Returns
+    -------
+    dict of str to list of type
+        ``{module: [element classes in the order of its __all__]}``.
+
+    Examples
+    --------
+    >>> [cls.__name__ for cls in element_classes()["bondgraph.elements"]][:5]
+    ['Se', 'Sf', 'I', 'C', 'R']
     """
     found: dict[str, list[type[Element]]] = {}
     for modname in ELEMENT_MODULES:
@@ -90,7 +99,7 @@ def _first_paragraph(obj: object) -> str:
     return (inspect.getdoc(obj) or "").split("\n\n")[0].replace("\n", " ").strip()
 
 
-def elements_markdown() -> list[str]:
+def _elements_markdown() -> list[str]:
     """The catalogue's element section: one table per module of :data:`ELEMENT_MODULES`."""
     lines = ["## Elements", "",
              "The element classes, from the generic elements to the switches and the "
@@ -109,7 +118,7 @@ def elements_markdown() -> list[str]:
     return lines
 
 
-def switched_graphs_markdown() -> list[str]:
+def _switched_graphs_markdown() -> list[str]:
     """The catalogue's section on the switched graphs of :mod:`bondgraph.hybrid.library`."""
     hybrid_library = importlib.import_module("bondgraph.hybrid.library")
     lines = ["## Switched graphs", "", "`bondgraph.hybrid.library`", "",
@@ -186,7 +195,7 @@ def catalogue_markdown(pictures: str = "../img/library") -> str:
              "Generated from the classes of `bondgraph.elements`, `bondgraph.hybrid` and "
              "`bondgraph.library` by `python -m bondgraph.library.catalogue docs`; do not "
              "edit by hand.", ""]
-    lines += elements_markdown()
+    lines += _elements_markdown()
     lines += ["## Components", "",
              "Each component is a sub-model: add it to a graph and connect its ports as "
              "`'name.port'`. Parameters not given default to the positive symbol "
@@ -212,7 +221,7 @@ def catalogue_markdown(pictures: str = "../img/library") -> str:
                       f"- **Law**: `{cls.law}`", f"- **Ports**: {ports}",
                       f"- **Drawing label**: `{cls.symbol}`", f"- **Source**: {cls.reference}", "",
                       f"![{cls.__name__}]({pictures}/{mod}.{cls.__name__}.svg)", ""]
-    lines += switched_graphs_markdown()
+    lines += _switched_graphs_markdown()
     return "\n".join(lines).rstrip("\n") + "\n"
 
 
