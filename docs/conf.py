@@ -22,7 +22,7 @@ landing page's figures (the FLEXCAM augmented bond graph and its Bode diagram) a
 drawn at every build by :func:`write_landing_figures` into ``docs/_generated/``
 (ignored by git), so they always show what the code draws.
 
-The five notebooks of ``notebooks/`` are rendered through the symlink
+The notebooks of ``notebooks/`` are rendered through the symlink
 ``docs/notebooks`` and executed at every build by myst-nb (a failing cell fails
 the build).
 """

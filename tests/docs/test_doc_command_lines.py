@@ -2,8 +2,8 @@
 
 Command lines with concrete names (``bondgraph tf models/srv02.py --input e_in ...``)
 are run with :func:`bondgraph.cli.main` in a scratch directory that sees the
-repository's ``models/``, plus the two files the README names without shipping
-them (``pendulum.py``, the pendulum of the operating-points guide, and a
+repository's ``models/``, plus the two files the guide names without shipping
+them (``pendulum.py``, the pendulum of the operating-points page, and a
 ``study.toml`` for the sweep).  Templates (``bondgraph tf MODEL --input U
 --output Y [--latex]``) are filled in (``MODEL`` -> ``models/srv02.py``, ``U`` ->
 ``e_in``, the first of ``a|b|c``, the bracketed options kept) and parsed by the
@@ -79,6 +79,9 @@ TEMPLATES = [(p, c) for p, c in COMMANDS if (p, c) not in CONCRETE]
 def test_the_docs_have_command_lines():
     assert len(CONCRETE) >= 6 and len(TEMPLATES) >= 5
     assert any("tf models/srv02.py --input e_in" in c for _, c in CONCRETE)
+    # the upright pendulum, whose exported A is checked below, is on the operating-points page
+    assert ("operating-points.md", "bondgraph export pendulum.py --trim --guess q_grav=3 -o "
+            "upright.json") in CONCRETE
 
 
 def _fill(command: str) -> list[str]:
@@ -132,6 +135,6 @@ def test_concrete_command_lines_run(page, command, scratch, monkeypatch):
         status = main(argv)
     assert status == 0, f"{page}: {command}\n{err.getvalue()}"
     if "upright.json" in argv:
-        # the README: A = [[-b/J, +m g l], [1/J, 0]] at the upright point
+        # the operating-points page: A = [[-b/J, +m g l], [1/J, 0]] at the upright point
         A = np.array(json.loads((scratch / "upright.json").read_text())["A"], dtype=float)
         assert A == pytest.approx(np.array([[-0.1 / 0.25, 1.0 * 9.81 * 0.5], [1 / 0.25, 0.0]]))

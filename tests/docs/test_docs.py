@@ -2,7 +2,7 @@
 
 ``test_site_builds`` runs ``sphinx-build -W --keep-going -b html docs <tmp>``
 in a subprocess (the API reference generated from the docstrings, the user
-guide, the five notebooks executed by myst-nb) and looks at a few pages.  It
+guide, the notebooks executed by myst-nb) and looks at a few pages.  It
 is one test on purpose: under ``pytest -n 2`` a fixture shared by several
 tests would build the site once per worker.
 
@@ -119,7 +119,7 @@ def test_site_builds(tmp_path):
     # the figures the notebooks draw, embedded as images
     hub = (out / "notebooks" / "01_srv02_hub.html").read_text(encoding="utf-8")
     outputs = " ".join(re.findall(r'class="cell_output[^"]*">(.*?)</div>\s*</div>', hub, re.S))
-    # theta/e_in of the hub, Eq. (1) configuration: 375.7/(s (s + 42.54)) (README's table)
+    # theta/e_in of the hub, Eq. (1) configuration: 375.7/(s (s + 42.54)) (the models page's table)
     assert "375.7" in outputs and "42.54" in outputs
     assert re.search(r'<img [^>]*src="../_images/\w+\.png"', hub), "no figure in 01_srv02_hub"
     for name in ("01_srv02_hub", "02_flexcam", "03_appendages", "04_identification", "05_control"):

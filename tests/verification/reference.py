@@ -17,7 +17,7 @@ writes the bond graph's own equations, nothing derived by causality:
 * ``Sf``: the flow *out of* the source is ``u``: ``-sigma*f_k = u`` (so the
   bond flow is ``u`` for the usual bond pointing away from the source).
 
-These are the conventions of bondgraph's README ("Conventions") and of
+These are the conventions of the user guide (docs/guide/conventions.md) and of
 ``bondgraph/elements.py``; the source-sign and signal conventions below were
 read off ``bondgraph/equations.py`` (``_rule`` and ``_signal_var``), which the
 documentation does not spell out for reversed source bonds.
