@@ -39,7 +39,7 @@ from sympy.polys.polyerrors import CoercionFailed
 
 from ._flint_fractions import Fractions
 
-__all__ = ["SINGULAR", "TOO_LARGE", "solve_fraction_free", "to_field"]
+__all__ = ["SINGULAR", "TOO_LARGE", "rank_fraction_free", "solve_fraction_free", "to_field"]
 
 #: returned for a singular ``M`` (its determinant is the zero polynomial)
 SINGULAR = "singular"
@@ -168,3 +168,68 @@ def to_field(K, expr: sympy.Expr):
     """
     F = Fractions(K)
     return F.to_field(*F.fraction(expr))
+
+
+def rank_fraction_free(M: sympy.Matrix, *, budget: int) -> Union[int, str, None]:
+    """The rank of ``M`` over the field of rational functions of its symbols, exactly.
+
+    Each row's denominators are cleared and the matrix is eliminated
+    fraction-free over the polynomials (python-flint), each pivot the
+    nonzero entry with the fewest terms: exact zero tests, no gcd.
+
+    Parameters
+    ----------
+    M : sympy.Matrix
+        Entries rational functions of symbols (no floats).
+    budget : int
+        Largest number of polynomial terms the eliminated rows may hold.
+
+    Returns
+    -------
+    int, TOO_LARGE or None
+        The rank; :data:`TOO_LARGE` past ``budget``; None when an entry is
+        not a rational function.
+
+    Examples
+    --------
+    >>> import sympy
+    >>> a, b = sympy.symbols("a b")
+    >>> rank_fraction_free(sympy.Matrix([[a, b], [a**2, a*b], [1, 1/a]]), budget=100)
+    2
+    >>> rank_fraction_free(sympy.Matrix([[a, b], [1/b, 1/a]]), budget=100)
+    1
+    """
+    if 0 in M.shape:
+        return 0
+    try:
+        F, rows = _ring_rows(M, sympy.zeros(M.rows, 0), budget + sum(
+            len(sympy.Add.make_args(e)) for e in M if e != 0))
+    except (CoercionFailed, NotImplementedError, ValueError, ZeroDivisionError):
+        return None
+    if rows is None:
+        return TOO_LARGE
+    live_rows = list(range(M.rows))
+    live_cols = list(range(M.cols))
+    prev = F.one
+    rank = 0
+    while live_rows and live_cols:
+        cand = [(len(rows[i][j]), i, j) for i in live_rows for j in live_cols
+                if not rows[i][j].is_zero()]
+        if not cand:
+            break
+        _, pi, pj = min(cand)
+        piv = rows[pi][pj]
+        live_rows.remove(pi)
+        live_cols.remove(pj)
+        size = 0
+        for i in live_rows:
+            lead = rows[i][pj]
+            for j in live_cols:
+                v = piv * rows[i][j] - lead * rows[pi][j]
+                rows[i][j] = v / prev if not prev.is_one() else v      # exact (Bareiss)
+                size += len(rows[i][j])
+            if size > budget:
+                return TOO_LARGE
+        prev = piv
+        rank += 1
+    return rank
