@@ -12,12 +12,21 @@ total.
     python bench/bench_loops.py                     # the listed seeds
     python bench/bench_loops.py --scan 0 2000       # and a scan of 2,000 seeds
 
-Run it on two checkouts to compare (``PYTHONPATH=<checkout>``).
+Run it on two checkouts to compare (``PYTHONPATH=<checkout>``).  To check that
+a speed-up changed no result, ``--snapshot A B OUT`` writes the SHA-256 of the
+``srepr`` of every derived model (states, inputs, right-hand sides, outputs,
+input derivatives, descriptor form, algebraic unknowns and residuals; or the
+refusal) of seeds ``A..B-1`` and the listed seeds, in both insertion orders;
+``--compare BEFORE AFTER`` counts the differences::
+
+    PYTHONHASHSEED=0 python bench/bench_loops.py --seeds --snapshot 0 250 after.json
 """
 
 from __future__ import annotations
 
 import argparse
+import hashlib
+import json
 import sys
 import time
 import warnings
@@ -48,12 +57,44 @@ def derive_seconds(seed: int, order) -> tuple[float, str, object]:
     return time.process_time() - t, what, g
 
 
+def fingerprint(seed: int, order) -> str:
+    """SHA-256 of the ``srepr`` of the model derived from graph ``seed``, or its refusal."""
+    import sympy
+
+    import bondgraph as bg
+    from verification import generator as gen
+
+    bgg, outputs, _ = gen.build(gen.generate(seed), order)
+    try:
+        m = bg.derive(bgg, outputs)
+    except bg.BondGraphError as exc:
+        return f"refused {type(exc).__name__}: {exc}"
+    parts = [sympy.srepr(x) for x in (m.states, m.inputs, m.rhs, m.output_exprs,
+                                       m.input_derivatives, m.descriptor, m.algebraic,
+                                       m.residuals)]
+    return hashlib.sha256("\n".join(parts).encode()).hexdigest()
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--scan", type=int, nargs=2, metavar=("A", "B"))
     ap.add_argument("--seeds", type=int, nargs="*", default=SLOW)
+    ap.add_argument("--snapshot", nargs=3, metavar=("A", "B", "OUT"))
+    ap.add_argument("--compare", nargs=2, metavar=("BEFORE", "AFTER"))
     a = ap.parse_args(argv)
     warnings.simplefilter("ignore")
+    if a.compare:
+        before, after = (json.loads(Path(f).read_text()) for f in a.compare)
+        diff = sorted(k for k in before if before[k] != after.get(k))
+        print(f"{len(before)} derivations, {len(diff)} differ: {diff[:20]}")
+        return 1 if diff else 0
+    if a.snapshot:
+        lo, hi, out = int(a.snapshot[0]), int(a.snapshot[1]), a.snapshot[2]
+        seeds = list(range(lo, hi)) + [s for s in SLOW if not lo <= s < hi]
+        Path(out).write_text(json.dumps({f"{seed}:{order}": fingerprint(seed, order)
+                                         for seed in seeds for order in (None, 1)}))
+        print(f"{2 * len(seeds)} derivations -> {out}")
+        return 0
     import bondgraph  # noqa: F401 - imported before timing
 
     worst = 0.0

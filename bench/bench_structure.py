@@ -5,11 +5,14 @@ ground (the audit's chain, ``../shared/audit/turn4/cases/_chain.py``):
 
 * ``controllability`` of the whole model (``2n - 1`` states);
 * exact ``identifiability`` with the displacement of the last mass measured;
+* ``fault_signatures`` with the velocity of every mass measured, and with the
+  velocity of the last mass only (its relations grow about fourfold per mass:
+  refused past ``FAULT_SIZE_BUDGET``, the time to the refusal is shown);
 
 CPU seconds (``time.process_time``) of the analysis alone, after ``derive``.
 
-    python bench/bench_structure.py                          # 20, 40, 80 masses; 2, 3
-    python bench/bench_structure.py --control 80 --ident 3
+    python bench/bench_structure.py                  # 20, 40, 80 masses; 2, 3; 5, 10
+    python bench/bench_structure.py --control 80 --ident 3 --faults 10
 """
 
 from __future__ import annotations
@@ -39,11 +42,12 @@ def chain(n: int):
 
 def main(argv=None) -> int:
     import bondgraph as bg
-    from bondgraph.structure import controllability, identifiability
+    from bondgraph.structure import controllability, fault_signatures, identifiability
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--control", type=int, nargs="*", default=[20, 40, 80])
     ap.add_argument("--ident", type=int, nargs="*", default=[2, 3])
+    ap.add_argument("--faults", type=int, nargs="*", default=[5, 10])
     a = ap.parse_args(argv)
     for n in a.control:
         model = bg.derive(chain(n))
@@ -58,6 +62,18 @@ def main(argv=None) -> int:
         r = identifiability(model)
         print(f"identifiability (exact), {n} masses ({len(r.unknown)} parameters): "
               f"{time.process_time() - t:7.2f} CPU s  (rank {r.rank})", flush=True)
+    for n in a.faults:
+        for sensors in ("every mass", "last mass"):
+            outs = ({f"v{i}": bg.flow(f"m{i}") for i in range(n)} if sensors == "every mass"
+                    else {"v": bg.flow(f"m{n - 1}")})
+            model = bg.derive(chain(n), outputs=outs)
+            t = time.process_time()
+            try:
+                what = f"{len(fault_signatures(model).arrs)} relations"
+            except bg.BondGraphError as exc:
+                what = f"refused: {str(exc)[:60]}..."
+            print(f"fault_signatures, {n:2d} masses, velocity of the {sensors}: "
+                  f"{time.process_time() - t:7.2f} CPU s  ({what})", flush=True)
     return 0
 
 
