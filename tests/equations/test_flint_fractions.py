@@ -72,3 +72,21 @@ def test_rank_of_products_of_known_rank(seed):
 def test_rank_past_its_budget():
     M = sympy.Matrix(4, 4, lambda i, j: (a + b + c + d) ** (i + j))
     assert rank_fraction_free(M, budget=5) == TOO_LARGE
+
+
+@pytest.mark.parametrize("seed", range(15))
+def test_rank_against_sympys_fraction_field(seed):
+    """Random matrices with dependent rows: the rank over QQ(a, b, c, d) by sympy's
+    ``DomainMatrix`` (elimination over the field, an independent implementation)."""
+    from sympy.polys.matrices import DomainMatrix
+
+    rng = random.Random(100 + seed)
+    syms = [a, b, c, d]
+
+    def entry():
+        return (rng.choice(syms) + rng.randint(-2, 2)) / (rng.choice(syms) + rng.randint(1, 3)) \
+            if rng.random() < 0.7 else 0
+    rows = [[entry() for _ in range(3)] for _ in range(2)]
+    rows.append([rows[0][j] * a + rows[1][j] / (b + 1) for j in range(3)])
+    M = sympy.Matrix(rows)
+    assert rank_fraction_free(M, budget=100_000) == DomainMatrix.from_Matrix(M).rank()
