@@ -78,6 +78,8 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--n", type=int, default=2000)
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--seeds", type=int, nargs="*", default=(),
+                    help="extra seeds (the slow ones of bench/bench_loops.py)")
     ap.add_argument("--jobs", type=int, default=2)
     ap.add_argument("--timeout", type=float, default=20.0)
     ap.add_argument("-o", "--out", default="srepr.json")
@@ -93,7 +95,7 @@ def main(argv=None) -> int:
         return 1 if diff else 0
     if os.environ.get("PYTHONHASHSEED") is None:
         print("warning: set PYTHONHASHSEED (e.g. 0) so the hashes are reproducible", file=sys.stderr)
-    seeds = range(a.seed, a.seed + a.n)
+    seeds = sorted(set(range(a.seed, a.seed + a.n)) | set(a.seeds))
     with mp.get_context("fork").Pool(a.jobs, maxtasksperchild=200) as pool:
         res = dict(pool.imap_unordered(_run, [(s, a.timeout) for s in seeds], chunksize=4))
     Path(a.out).write_text(json.dumps({str(k): res[k] for k in sorted(res)}, indent=0))

@@ -560,13 +560,14 @@ class _Deriver:
             xsol = dict(zip(xd_of, raw))
         out_exprs = [o.xreplace(xsol) if o.free_symbols & xd_syms else o for o in out_exprs]
         self.implicit.substitute(xsol, only=xd_syms)   # a loop holding a dependent rate
+        if self.broken:
+            # loop solutions were substituted: one reduced fraction per coefficient (before
+            # the integrators are matched against the state derivatives, on small expressions)
+            rhs = compact_linear(list(rhs), self._knowns())
         states, rhs, out_exprs, descriptor = self._reuse_states(
             states, list(rhs), out_exprs, descriptor, n_storage)
         if self.broken:
-            # loop solutions were substituted: one reduced fraction per coefficient
-            knowns = self._knowns()
-            rhs = compact_linear(list(rhs), knowns)
-            out_exprs = compact_linear(list(out_exprs), knowns)
+            out_exprs = compact_linear(list(out_exprs), self._knowns())
         algebraic, residuals, origin, rhs, out_exprs = self.implicit.finish(
             set(self.xdot.values()), rhs, out_exprs)
         if descriptor is not None and algebraic:

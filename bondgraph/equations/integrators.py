@@ -39,32 +39,107 @@ from typing import Optional, Sequence
 import numpy as np
 import sympy
 from sympy.polys.matrices.exceptions import DMNonInvertibleMatrixError
+from sympy.polys.polyerrors import CoercionFailed
+from sympy.solvers.solveset import NonlinearError
 
 from .loops import field_matrix
 from ..signals import t as T_SYM
 
 __all__ = ["state_combination"]
 
+def _fmpq(v):
+    """A float or a sympy Rational as an exact flint rational."""
+    import flint
+
+    if isinstance(v, float):
+        return flint.fmpq(*v.as_integer_ratio())
+    return flint.fmpq(int(v.p), int(v.q))
+
+
 #: Above this many storage states the search is skipped (dense least squares).
 MAX_STATES = 400
 
 
 def _linear_row(expr: sympy.Expr, variables: Sequence[sympy.Symbol]) -> Optional[dict]:
-    """``{var: coefficient, 1: constant}`` of an expression affine in ``variables``."""
+    """``{var: coefficient, 1: constant}`` of an expression affine in ``variables``
+    (read in one pass over its terms)."""
     vs = set(variables)
     free = expr.free_symbols
     if T_SYM in free:
         return None
+    held = sorted(free & vs, key=sympy.default_sort_key)
+    try:
+        coeffs, const = sympy.linear_eq_to_matrix([expr], held) if held else (
+            sympy.zeros(1, 0), sympy.Matrix([-expr]))
+    except (NonlinearError, ValueError):
+        return None
     row: dict = {}
-    for v in free & vs:
-        c = sympy.diff(expr, v)
-        if c.free_symbols & vs or T_SYM in c.free_symbols:
+    for v, c in zip(held, coeffs):
+        if c.free_symbols & vs:
             return None
-        row[v] = c
-    const = expr.xreplace({v: 0 for v in free & vs})
-    if const != 0:
-        row[1] = const
+        if c != 0:
+            row[v] = c
+    if const[0] != 0:
+        row[1] = -const[0]
     return row
+
+
+class _Evaluator:
+    """Exact values of rational functions of the parameters at points (python-flint).
+
+    Each coefficient is converted once to a reduced fraction of flint
+    polynomials and evaluated exactly at rational points: the cost does not
+    grow with the size of its sympy expression tree, and the value does not
+    depend on how the expression is written.  Coefficients that are not
+    rational functions (a ``sqrt``) are substituted by sympy instead.
+    """
+
+    def __init__(self, params: list) -> None:
+        self.params = params
+        self.F = None
+        if params:
+            from sympy.polys.fields import field
+
+            from ._flint_fractions import Fractions
+
+            self.F = Fractions(field(params, sympy.QQ)[0])
+        self.memo: dict = {}
+
+    def _fraction(self, c: sympy.Expr):
+        if c not in self.memo:
+            try:
+                self.memo[c] = self.F.fraction(c) if self.F is not None else None
+            except (CoercionFailed, NotImplementedError, ValueError, ZeroDivisionError,
+                    TypeError):
+                self.memo[c] = None
+        return self.memo[c]
+
+    def exact(self, c, point: dict, qpoint: list):
+        """``c`` at ``point`` (sympy Rationals; ``qpoint`` the same as flint fmpq), or a
+        non-rational sympy number."""
+        if isinstance(c, int) or not c.free_symbols:
+            return sympy.sympify(c)
+        nd = self._fraction(c)
+        if nd is None:
+            return c.xreplace(point)
+        d = nd[1](*qpoint)
+        if d == 0:
+            return sympy.zoo
+        v = nd[0](*qpoint) / d
+        return sympy.Rational(int(v.p), int(v.q))
+
+    def number(self, c, values: dict, qvalues: list) -> float:
+        """``c`` at float parameter values, evaluated exactly then rounded."""
+        if not c.free_symbols:
+            return float(c)
+        nd = self._fraction(c)
+        if nd is None:
+            return float(complex(c.xreplace(values)).real)
+        d = nd[1](*qvalues)
+        if d == 0:
+            raise ValueError("a coefficient's denominator vanishes")
+        v = nd[0](*qvalues) / d
+        return int(v.p) / int(v.q)
 
 
 def state_combination(flow: sympy.Expr, states: Sequence[sympy.Symbol],
@@ -109,10 +184,14 @@ def state_combination(flow: sympy.Expr, states: Sequence[sympy.Symbol],
         for c in row.values():
             params |= c.free_symbols
     rng = np.random.default_rng(seed)
-    values = {p: sympy.Float(rng.uniform(0.5, 2.0)) for p in params}
+    plist = sorted(params, key=sympy.default_sort_key)
+    ev = _Evaluator(plist)
+    floats = [rng.uniform(0.5, 2.0) for _ in plist]
+    values = {p: sympy.Float(v) for p, v in zip(plist, floats)}
+    qvalues = [_fmpq(v) for v in floats]
 
     def number(c) -> float:
-        return float(complex(c.xreplace(values)).real) if c.free_symbols else float(c)
+        return ev.number(c, values, qvalues)
 
     try:
         M = np.zeros((n, len(cols)))
@@ -148,7 +227,7 @@ def state_combination(flow: sympy.Expr, states: Sequence[sympy.Symbol],
     pick = [used.index(i) for i in chosen]
     table = [[rows[j].get(cols[i], 0) for i in used] for j in support] + \
         [[target.get(cols[i], 0) for i in used]]
-    constant = _constant_combination(table, pick, sorted(params, key=sympy.default_sort_key), rng)
+    constant = _constant_combination(table, pick, plist, rng, ev)
     coeffs = constant if constant is not None else _symbolic_combination(table, pick)
     if coeffs is None:
         return None
@@ -169,7 +248,7 @@ def _exact_points(params: list, rng: np.random.Generator, count: int) -> list[di
 
 
 def _constant_combination(table: list, pick: list[int], params: list,
-                          rng: np.random.Generator) -> Optional[list]:
+                          rng: np.random.Generator, ev: _Evaluator) -> Optional[list]:
     """The coefficients when they are the same rational numbers at every parameter value.
 
     Solved exactly at three random rational points; accepted when they agree and
@@ -180,9 +259,10 @@ def _constant_combination(table: list, pick: list[int], params: list,
     k = len(table) - 1
     found = None
     for n, point in enumerate(_exact_points(params, rng, 5)):
+        qpoint = [_fmpq(point[p]) for p in params]
         try:
-            num = [[sympy.Integer(c) if isinstance(c, int) else c.xreplace(point) for c in row]
-                   for row in table]
+            num = [[sympy.Integer(c) if isinstance(c, int) else ev.exact(c, point, qpoint)
+                    for c in row] for row in table]
         except (ZeroDivisionError, TypeError):
             return None
         if any(not x.is_Rational for row in num for x in row):

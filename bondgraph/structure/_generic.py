@@ -29,7 +29,11 @@ from ..linear import derivative_form
 from ..model import Model
 
 __all__ = ["LinearForm", "linear_form", "random_points", "at_point", "exact_rank",
-           "term_rank", "left_kernel_support", "StructureError"]
+           "term_rank", "left_kernel_support", "StructureError", "PRIMES", "modular",
+           "modular_rank_and_support"]
+
+#: two primes below 2**62 for ranks modulo a prime (python-flint ``nmod_mat``)
+PRIMES = (4611686018427387847, 4611686018427387817)
 
 
 class StructureError(BondGraphError, ValueError):
@@ -104,7 +108,11 @@ def random_points(params: Sequence[sympy.Symbol], count: int = 2, *, seed: int =
 
 def at_point(M: sympy.Matrix, point: Mapping) -> sympy.Matrix:
     """``M`` with the parameters replaced by the point's values."""
-    return sympy.Matrix(M.xreplace(dict(point)))
+    point = dict(point)
+    out = sympy.zeros(M.rows, M.cols)
+    for (i, j), e in M.todok().items():        # the nonzero entries only
+        out[i, j] = e.xreplace(point)
+    return out
 
 
 def _domain(M: sympy.Matrix):
@@ -143,10 +151,9 @@ def term_rank(M: sympy.Matrix) -> int:
     rows = [("r", i) for i in range(M.rows)]
     G.add_nodes_from(rows, bipartite=0)
     G.add_nodes_from((("c", j) for j in range(M.cols)), bipartite=1)
-    for i in range(M.rows):
-        for j in range(M.cols):
-            if M[i, j] != 0:
-                G.add_edge(("r", i), ("c", j))
+    for (i, j), e in M.todok().items():
+        if e != 0:
+            G.add_edge(("r", i), ("c", j))
     match = nx.bipartite.hopcroft_karp_matching(G, top_nodes=rows)
     return sum(1 for node in match if node[0] == "r")
 
@@ -159,3 +166,30 @@ def left_kernel_support(M: sympy.Matrix, point: Mapping) -> tuple[int, ...]:
         return tuple(i for i in range(M.rows) if all(e == 0 for e in M.row(i)))
     basis = dm.nullspace().to_Matrix()
     return tuple(i for i in range(M.rows) if any(basis[k, i] != 0 for k in range(basis.rows)))
+
+
+def modular(M: sympy.Matrix, prime: int):
+    """``M`` (rational numbers) modulo ``prime`` as a flint ``nmod_mat``; None when an entry is
+    not rational or its denominator is divisible by ``prime``."""
+    import flint
+
+    vals = [0] * (M.rows * M.cols)
+    for (i, j), e in M.todok().items():
+        if not e.is_Rational:
+            return None
+        q = int(e.q) % prime
+        if q == 0:
+            return None
+        vals[i * M.cols + j] = int(e.p) * pow(q, -1, prime) % prime
+    return flint.nmod_mat(M.rows, M.cols, vals, prime)
+
+
+def modular_rank_and_support(K, rank_needed: int) -> tuple[int, tuple[int, ...]]:
+    """Rank of a flint ``nmod_mat`` and, when below ``rank_needed``, the rows on which a
+    vector of its left kernel is nonzero."""
+    r = K.rank()
+    if r >= rank_needed:
+        return r, ()
+    X, nullity = K.transpose().nullspace()
+    return r, tuple(i for i in range(K.nrows())
+                    if any(int(X[i, k]) for k in range(nullity)))

@@ -19,7 +19,7 @@ Two graphs, both :class:`networkx.DiGraph`:
 
 from __future__ import annotations
 
-from typing import Optional
+from typing import Optional, Sequence
 
 import networkx as nx
 
@@ -27,7 +27,7 @@ from ..causality import AugmentedBondGraph, dependencies
 from ..model import Model
 from ._generic import LinearForm
 
-__all__ = ["signal_digraph", "state_elements", "bond_path", "path_names"]
+__all__ = ["signal_digraph", "state_elements", "bond_path", "bond_paths", "path_names"]
 
 
 def signal_digraph(lf: LinearForm) -> nx.DiGraph:
@@ -111,20 +111,27 @@ def bond_path(aug: AugmentedBondGraph, sources: tuple[str, ...], target: str
     Empty when there is none.  Consecutive repeats are merged; the path runs
     through the bond variables of the augmented bond graph.
     """
+    return bond_paths(aug, sources, (target,))[0]
+
+
+def bond_paths(aug: AugmentedBondGraph, sources: tuple[str, ...], targets: Sequence[str]
+               ) -> tuple[tuple[str, ...], ...]:
+    """:func:`bond_path` for each of ``targets``: one causal graph, one shortest-path search."""
     flat = aug.flat
     G, producer = _causal_graph(aug)
     names = [el.name for el in flat.elements]
     starts = [v for v in range(len(producer)) if names[producer[v]] in sources]
+    paths = nx.multi_source_dijkstra(G, set(starts), target=None)[1] if starts else {}
+    return tuple(_path_to(flat, producer, names, paths, t) for t in targets)
+
+
+def _path_to(flat, producer, names, paths, target: str) -> tuple[str, ...]:
     tidx = flat.index[target]
     goals = {u for k in flat.incidence[target] for u in (2 * k, 2 * k + 1)
              if producer[u] != tidx}
-    if not starts or not goals:
+    if not paths or not goals:
         return ()
-    try:
-        _, path = nx.multi_source_dijkstra(G, set(starts), target=None)
-    except nx.NetworkXNoPath:  # pragma: no cover - multi_source without target never raises
-        return ()
-    best = min((path[g] for g in goals if g in path), key=len, default=None)
+    best = min((paths[g] for g in goals if g in paths), key=len, default=None)
     if best is None:
         return ()
     out: list[str] = []

@@ -44,6 +44,7 @@ import sympy
 from sympy.polys.domains import QQ
 from sympy.polys.matrices import DomainMatrix
 
+from ..equations.fraction_free import TOO_LARGE, rank_fraction_free
 from ..errors import BondGraphError, BondGraphWarning
 from ..model import Model
 from ._generic import StructureError, at_point, exact_rank, random_points
@@ -150,6 +151,33 @@ def _integer_rows(M: sympy.Matrix) -> list[list[int]]:
     return rows
 
 
+#: largest number of polynomial terms the exact (symbolic) rank of the Jacobian may hold
+#: while it eliminates; past it, ``identifiability`` refuses and points to ``exact=False``
+EXACT_RANK_BUDGET = 200_000
+
+
+def _exact_rank(J: sympy.Matrix, at_points: int, model: str) -> int:
+    """The rank of ``J`` over the rational functions of the parameters, exactly.
+
+    A rank at a point never exceeds the symbolic one, so a full rank at a
+    random point is exact; otherwise fraction-free elimination over flint
+    polynomials (:func:`bondgraph.equations.fraction_free.rank_fraction_free`)
+    decides, within :data:`EXACT_RANK_BUDGET` terms.
+    """
+    if at_points == min(J.shape):
+        return at_points
+    r = rank_fraction_free(J, budget=EXACT_RANK_BUDGET)
+    if r is None:           # entries that are not rational functions (a sqrt)
+        return DomainMatrix.from_Matrix(J).rank()
+    if r == TOO_LARGE:
+        raise StructureError(
+            f"model {model!r}: the exact rank of the {J.rows} x {J.cols} identifiability "
+            f"Jacobian passes {EXACT_RANK_BUDGET} polynomial terms while eliminating (its rank "
+            f"at random points is {at_points}); use identifiability(..., exact=False), the rank "
+            "at random rational points (the same number with probability one)")
+    return int(r)
+
+
 def identifiability(model: Model, input: Optional[str] = None, output: Optional[str] = None, *,
                     unknown: Optional[Sequence[str]] = None, seed: int = 0,
                     exact: bool = True) -> Identifiability:
@@ -167,10 +195,12 @@ def identifiability(model: Model, input: Optional[str] = None, output: Optional[
     seed : int
         Seed of the random rational points of the confirmation.
     exact : bool
-        Rank the Jacobian symbolically, over the fraction field of the parameters
-        (default).  False takes the largest exact rank at three random rational
-        points instead: the same number with probability one, and seconds instead
-        of minutes on an 8-state model with a dozen parameters.
+        Rank the Jacobian exactly, over the fraction field of the parameters
+        (default): full at a random rational point proves it; otherwise a
+        fraction-free elimination over python-flint polynomials decides (refused
+        past :data:`EXACT_RANK_BUDGET` terms).  False takes the largest exact rank
+        at three random rational points instead: the same number with
+        probability one.
 
     Returns
     -------
@@ -204,7 +234,7 @@ def identifiability(model: Model, input: Optional[str] = None, output: Optional[
     if not (J.rows and J.cols):
         rank = 0
     elif exact:
-        rank = DomainMatrix.from_Matrix(J).rank()
+        rank = _exact_rank(J, max(ranks), model.name)
     else:
         rank = max(ranks)
     # individually identifiable: e_j in the row space at a random point

@@ -54,9 +54,10 @@ import networkx as nx
 import sympy
 
 from ..model import Model
-from ._generic import (LinearForm, StructureError, at_point, exact_rank, left_kernel_support,
+from ._generic import (PRIMES, LinearForm, StructureError, at_point, exact_rank,
+                       left_kernel_support, modular, modular_rank_and_support,
                        linear_form, random_points, term_rank)
-from ._paths import bond_path, path_names, signal_digraph, state_elements
+from ._paths import bond_paths as bond_paths_to, path_names, signal_digraph, state_elements
 from .derivative import DerivativeCausality, derivative_causality
 
 __all__ = ["Reachability", "controllability", "observability"]
@@ -238,22 +239,75 @@ def _pick(names: Sequence[str], wanted, what: str, model: str) -> tuple[int, ...
     return tuple(out)
 
 
+#: above this many states a Kalman rank found deficient modulo two primes is not
+#: recomputed over the rationals (dense rational elimination grows steeply)
+KALMAN_EXACT_MAX = 40
+
+
 def _kalman_rank_and_lost(at: list, n: int) -> tuple[int, tuple[int, ...]]:
-    """Kalman rank and left-kernel support of ``[B AB ...]`` from ``[A B]`` at each point."""
+    """Kalman rank and left-kernel support of ``[B AB ...]`` from ``[A B]`` at each point.
+
+    The fast route: ``[B AB ... A^(n-1) B]`` modulo a 62-bit prime (python-flint
+    ``nmod_mat``).  A rank modulo a prime never exceeds the rank over the
+    rationals, so a full rank there is exact.  A deficient rank is confirmed
+    over the rationals up to :data:`KALMAN_EXACT_MAX` states; above, by a
+    second prime (a wrong deficiency needs both primes to divide every
+    nonzero maximal minor at the point).
+    """
     best: tuple[int, tuple[int, ...]] = (-1, ())
     for AB in at:
         Av, Bv = AB[:, :n], AB[:, n:]
         if not Bv.cols:
             return 0, tuple(range(n))
-        blocks, cur = [Bv], Bv
-        for _ in range(max(n - 1, 0)):
-            cur = Av * cur
-            blocks.append(cur)
-        K = sympy.Matrix.hstack(*blocks)
-        r = exact_rank(K)
-        if r > best[0]:
-            best = (r, left_kernel_support(K, {}) if r < n else ())
+        found = None
+        for prime in PRIMES:
+            mod = _kalman_modular(Av, Bv, n, prime)
+            if mod is None or (found is not None and mod != found):
+                found = None
+                break
+            found = mod
+            if mod[0] == n:
+                break
+        if found is None or (found[0] < n and n <= KALMAN_EXACT_MAX):
+            found = _kalman_exact(Av, Bv, n)
+        if found[0] > best[0]:
+            best = found
     return best
+
+
+def _kalman_modular(Av, Bv, n: int, prime: int):
+    A, B = modular(Av, prime), modular(Bv, prime)
+    if A is None or B is None:
+        return None
+    blocks, cur = [B], B
+    for _ in range(max(n - 1, 0)):
+        cur = A * cur
+        blocks.append(cur)
+    m = Bv.cols
+    K = flint_hstack(blocks, n, m, prime)
+    return modular_rank_and_support(K, n)
+
+
+def flint_hstack(blocks: list, n: int, m: int, prime: int):
+    """``[M_0 M_1 ...]`` of flint ``nmod_mat`` blocks of shape ``(n, m)``."""
+    import flint
+
+    rows = [[] for _ in range(n)]
+    for blk in blocks:
+        t = blk.tolist()
+        for i in range(n):
+            rows[i].extend(int(v) for v in t[i])
+    return flint.nmod_mat(n, m * len(blocks), [v for r in rows for v in r], prime)
+
+
+def _kalman_exact(Av, Bv, n: int) -> tuple[int, tuple[int, ...]]:
+    blocks, cur = [Bv], Bv
+    for _ in range(max(n - 1, 0)):
+        cur = Av * cur
+        blocks.append(cur)
+    K = sympy.Matrix.hstack(*blocks)
+    r = exact_rank(K)
+    return r, (left_kernel_support(K, {}) if r < n else ())
 
 
 def _shared(model: Model, elements: Sequence[Optional[str]]) -> tuple[str, ...]:
@@ -314,14 +368,13 @@ def _analyse(model: Model, kind: str, pick, seed: int, detectors=None) -> Reacha
             continue
         names = path_names(p[1:])
         paths.append(names if kind == "controllability" else names[::-1])
-    bond_paths: list[tuple[str, ...]] = []
+    bond_paths: list[tuple[str, ...]] = [()] * n
     aug = model.augmented
-    for s, owner in zip(lf.states, (owners[s] for s in lf.states)):
-        if kind == "controllability" and aug is not None and owner is not None:
-            srcs = tuple(el.name for el in aug.flat.elements if el.input_name() in signals)
-            bond_paths.append(bond_path(aug, srcs, owner))
-        else:
-            bond_paths.append(())
+    if kind == "controllability" and aug is not None:
+        srcs = tuple(el.name for el in aug.flat.elements if el.input_name() in signals)
+        held = [i for i, s in enumerate(lf.states) if owners[s] is not None]
+        for i, bp in zip(held, bond_paths_to(aug, srcs, [owners[lf.states[i]] for i in held])):
+            bond_paths[i] = bp
     # each point substituted once: [A B] (observability: [A^T C^T], rows = states)
     at = [at_point(sympy.Matrix.hstack(A_k, B_k), pt) for pt in points] or \
         [sympy.Matrix.hstack(A_k, B_k)]

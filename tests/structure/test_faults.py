@@ -18,6 +18,7 @@ and C1 (same), R12 and De1 (same).
 from __future__ import annotations
 
 import numpy as np
+import pytest
 import scipy.integrate
 import sympy
 
@@ -91,3 +92,27 @@ def test_residuals_flag_a_clogged_outlet_valve():
     assert np.max(np.abs(res[k["state q_C1"], after])) < 1e-3      # R2 is not in ARR 1
     assert np.max(np.abs(res[k["sensor Df"], after])) > 0.05
     assert np.max(np.abs(res[k["state q_C2"], after])) > 0.05
+
+
+def test_relations_past_the_size_budget_are_refused(monkeypatch):
+    """A chain of masses seen through one sensor: its relation grows about fourfold per
+    mass; past the budget the analysis stops with a message naming the model."""
+    from bondgraph.structure import StructureError, faults
+
+    g = bg.BondGraph("chain4")
+    g.add(bg.Se("F"))
+    for i in range(4):
+        g.add(bg.One(f"v{i}"), bg.I(f"m{i}"), bg.R(f"b{i}"))
+        g.connect(f"v{i}", f"m{i}")
+        g.connect(f"v{i}", f"b{i}")
+        if i == 0:
+            g.connect("F", "v0")
+        else:
+            g.add(bg.Zero(f"s{i}"), bg.C(f"k{i}"))
+            g.connect(f"v{i - 1}", f"s{i}")
+            g.connect(f"s{i}", f"k{i}")
+            g.connect(f"s{i}", f"v{i}")
+    model = bg.derive(g, outputs={"v": bg.flow("m3")})
+    monkeypatch.setattr(faults, "FAULT_SIZE_BUDGET", 200)
+    with pytest.raises(StructureError, match="'chain4'.*FAULT_SIZE_BUDGET"):
+        fault_signatures(model)

@@ -192,3 +192,20 @@ def test_random_rank_equals_numeric_jacobian_rank(case):
     # the rank at random points alone (what greybox_fit's warning uses) is the same number
     quick = identifiability(model, u, "y", exact=False)
     assert quick.rank == res.rank and quick.combinations == res.combinations
+
+
+def test_exact_rank_past_its_budget_points_to_exact_false(monkeypatch):
+    """R C circuit: G = 1/(R C s + 1) fixes only R*C, so the Jacobian is deficient and the
+    exact rank must eliminate; with no budget it refuses, naming exact=False."""
+    from bondgraph.structure import StructureError, identifiable
+
+    g = bg.BondGraph("rc")
+    j = bg.One("j")
+    g.add(bg.Se("V"), j, bg.R("R"), bg.C("C"))
+    for t, h in [("V", j), (j, "R"), (j, "C")]:
+        g.connect(t, h)
+    model = bg.derive(g, outputs={"v": bg.effort("C")})
+    assert identifiability(model).rank == 1          # R*C only (hand derivation)
+    monkeypatch.setattr(identifiable, "EXACT_RANK_BUDGET", -10)
+    with pytest.raises(StructureError, match="'rc'.*exact=False"):
+        identifiability(model)
