@@ -303,7 +303,8 @@ def infer_domains(flat: "FlatGraph", graph: Optional["BondGraph"] = None,
     seeds += list(extra)
     found: dict[int, tuple[str, str]] = {}
     where = f"graph {flat.name!r}: "
-    for k, dom, who in (s for s in seeds if isinstance(s[1], str)):
+    for k, dom_s, who in (s for s in seeds if isinstance(s[1], str)):
+        dom = str(dom_s)
         root = find(k)
         if root in found and found[root][0] != dom:
             a, b = found[root], (_name(dom, who), who)

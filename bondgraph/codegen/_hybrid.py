@@ -265,7 +265,7 @@ def prepare_switched(sm, *, reserved: Iterable[str], matlab: bool = False,
 
         known = {k for full in fulls for k in full.known_parameters}
         default_values = tuple(resolve_parameters(plist, defaults, model=sm.name, known=known).tolist())
-        from ..hybrid._numeric import nonfinite, periods
+        from ..hybrid.checks import nonfinite, periods
 
         subs = dict(zip(plist, default_values))
         why = nonfinite(sm, modes, fulls, subs) or periods(sm, subs)[1]

@@ -48,17 +48,16 @@ class Fractions:
     """
 
     def __init__(self, K) -> None:
-        from ..tf._rings import make_ring     # the project's flint ring (tf is imported by bondgraph)
+        import flint
 
         self.K = K
         self.ring = K.ring
         self.gens = set(self.ring.symbols)
-        self.flint = make_ring(len(self.ring.symbols), "flint")
-        self.ctx = self.flint.ctx
-        self.one = self.flint.one
-        self.zero = self.flint.zero
-        import flint
-
+        # the variables x0, x1, ... in lex order, as the transfer functions' flint ring has them
+        names = tuple(f"x{i}" for i in range(max(len(self.ring.symbols), 1)))
+        self.ctx = flint.fmpq_mpoly_ctx.get(names, "lex")
+        self.one = self.ctx.constant(1)
+        self.zero = self.ctx.from_dict({})
         self._fmpq = flint.fmpq
 
     # ------------------------------------------------------------ conversions

@@ -20,11 +20,12 @@ from ..elements.rules import check_model_values
 from ..parameters import match_values, real_value
 from ..signals import Signal
 from ..signals import t as T_SYM
-from ._numeric import CompiledMode, EnergyMetric, integrated, nonfinite, periods
+from ._numeric import CompiledMode, EnergyMetric, integrated
+from .checks import nonfinite, periods
 from ._options import Clock, Options, checked_input
 from ._segment import integrate, next_time_event, periodic_falls
 from .errors import ChatteringError, EventBudgetError, HybridError, ModeError
-from .events import SwitchedResult, SwitchEvent
+from .records import SwitchedResult, SwitchEvent
 from .modes import Mode, ModeSet
 
 __all__ = ["Run"]
@@ -220,7 +221,8 @@ class Run:
                given: Optional[dict] = None):
         """The new mode by complementarity: ``(mode, cm, x, q_new, loss, jumped)``."""
         u = self.u(t)
-        cands, tried = [], []
+        cands: list = []
+        tried: list = []
         watch = tuple(dict.fromkeys(tuple(check) + tuple(trigger or ())))
         for k, mode in self._candidates(proposed, free):
             if cands and min(c[0] for c in cands)[:2] == (False, False) and k > min(

@@ -39,7 +39,7 @@ from __future__ import annotations
 
 import numbers
 from dataclasses import dataclass, field, replace
-from typing import Optional, Union
+from typing import Any, Optional, Union
 
 import sympy
 
@@ -175,7 +175,7 @@ class ReactionNetwork:
     def __init__(self, name: str, *, temperature: ParameterLike = None,
                  gas_constant: ParameterLike = None) -> None:
         self.name = check_name(name, "reaction network")
-        self._thermo = {"temperature": temperature, "gas_constant": gas_constant}
+        self._thermo: dict[str, Any] = {"temperature": temperature, "gas_constant": gas_constant}
         self._species: dict[str, Element] = {}
         self._reactions: dict[str, Reaction] = {}
 

@@ -23,6 +23,8 @@ bondgraph.structure._generic.StructureError: trajectory Abs(t) is not 2 times di
 
 from __future__ import annotations
 
+from typing import Optional
+
 import sympy
 
 from ..signals import t as T
@@ -59,7 +61,7 @@ def _piecewise(expr: sympy.Expr, shown: sympy.Expr) -> sympy.Expr:
     return expr.replace(lambda x: isinstance(x, sympy.Piecewise), convert)
 
 
-def _point(delta: sympy.Expr) -> tuple:
+def _point(delta: sympy.Expr) -> Optional[tuple]:
     """``(a, scale)`` of ``DiracDelta(g(t), k)`` with ``g`` linear: ``delta = scale *
     DiracDelta(t - a, k)``; None when ``g`` is not linear in t."""
     g = delta.args[0]

@@ -292,7 +292,7 @@ def flint_hstack(blocks: list, n: int, m: int, prime: int):
     """``[M_0 M_1 ...]`` of flint ``nmod_mat`` blocks of shape ``(n, m)``."""
     import flint
 
-    rows = [[] for _ in range(n)]
+    rows: list[list] = [[] for _ in range(n)]
     for blk in blocks:
         t = blk.tolist()
         for i in range(n):
@@ -373,7 +373,7 @@ def _analyse(model: Model, kind: str, pick, seed: int, detectors=None) -> Reacha
     if kind == "controllability" and aug is not None:
         srcs = tuple(el.name for el in aug.flat.elements if el.input_name() in signals)
         held = [i for i, s in enumerate(lf.states) if owners[s] is not None]
-        for i, bp in zip(held, bond_paths_to(aug, srcs, [owners[lf.states[i]] for i in held])):
+        for i, bp in zip(held, bond_paths_to(aug, srcs, [str(owners[lf.states[i]]) for i in held])):
             bond_paths[i] = bp
     # each point substituted once: [A B] (observability: [A^T C^T], rows = states)
     at = [at_point(sympy.Matrix.hstack(A_k, B_k), pt) for pt in points] or \

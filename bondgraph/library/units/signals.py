@@ -97,16 +97,9 @@ def plant_with_units(model: Model, graph: BondGraph, values: Mapping[str, Any], 
     >>> float(p.A[0, 0]), dict(p.units)          # -1/(R C) = -100 per second
     (-100.0, {'q_C': 'coulomb', 'V': 'volt', 'vC': 'volt'})
     """
-    from ...equations import StateEquations
     from ...numeric import compile_plant
-    from .check import UnitError, si_values
+    from .check import si_values
 
-    if not isinstance(model, StateEquations):
-        hint = ("; a switched model has one plant per mode: pass the model of one mode, "
-                "model.mode(on=..., off=...)" if hasattr(model, "modes") or
-                hasattr(model, "mode") else "")
-        raise UnitError(f"plant_with_units: model must be a derived model (bondgraph.derive); "
-                        f"got {type(model).__name__}{hint}")
     dims = model_units(model, graph, values, domains=domains)
     plant = compile_plant(model).plant(si_values(values))
     signals = {*plant.state_names, *plant.input_names, *plant.output_names}
