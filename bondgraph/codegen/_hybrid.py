@@ -155,6 +155,8 @@ def prepare_switched(sm, *, reserved: Iterable[str], matlab: bool = False,
             for s in sorted(g.free_symbols if g is not None else (), key=str):
                 if not isinstance(s, Signal) and s != T_SYM:
                     params.setdefault(s.name, s)
+    for s in sorted(H.free_symbols - set(Q), key=str):     # a storage parameter in no mode's equations
+        params.setdefault(s.name, s)
     inputs: list = []
     for full in fulls:
         inputs += [s for s in full.inputs if s not in inputs]
@@ -263,6 +265,12 @@ def prepare_switched(sm, *, reserved: Iterable[str], matlab: bool = False,
 
         known = {k for full in fulls for k in full.known_parameters}
         default_values = tuple(resolve_parameters(plist, defaults, model=sm.name, known=known).tolist())
+        from ..hybrid._numeric import nonfinite, periods
+
+        subs = dict(zip(plist, default_values))
+        why = nonfinite(sm, modes, fulls, subs) or periods(sm, subs)[1]
+        if why:
+            raise SwitchedExportError(why)
     mode_on = tuple(sum(1 << i for i, n_ in enumerate(sm.switches) if md.is_on(n_)) for md in modes)
     return SwitchedPrepared(
         name=sm.name, switches=tuple(sm.switches), modes=tuple(modes), mode_on=mode_on,

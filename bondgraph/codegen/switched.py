@@ -16,7 +16,8 @@ index into the table of reachable modes):
   proposed combination of switch states, the candidates flip any subset of
   the ``free`` switches (the diodes at an event); a candidate is consistent
   when every guard of the ``check`` switches is ``>= -guard_tol`` after its
-  re-initialisation; the chosen one loses no energy if one can, then flips
+  re-initialisation; the chosen one needs no jump of a state if one can
+  (a state moving by more than ``1e-9`` of its size plus ``1e-12``), then flips
   fewest switches.  It re-initialises ``x`` and returns the new mode, or -1.
 
 C: :func:`generate_switched_c` gives a ``.c``/``.h`` pair with
@@ -261,9 +262,8 @@ static int {P}_bits(unsigned long v)
 {sig_s}
 {{
     double xn[{alloc}], best_x[{alloc}], g[{up}_GALLOC];
-    double h_old = {P}_energy(x, p), tiny, best_loss = 0.0;
+    double h_old = {P}_energy(x, p), best_loss = 0.0;
     int k, j, i, best = -1, best_flips = 0, best_lossy = 0;
-    tiny = 1e-9 * (fabs(h_old) > 1e-300 ? fabs(h_old) : 1e-300);
     for (k = 0; k < {up}_NMODES; ++k) {{
         unsigned long diff = {P}_mode_on[k] ^ proposed;
         int ok = 1, flips, lossy;
@@ -276,7 +276,11 @@ static int {P}_bits(unsigned long v)
         if (!ok) continue;
         loss = h_old - {P}_energy(xn, p);
         flips = {P}_bits(diff);
-        lossy = fabs(loss) > tiny;
+        /* a jump: a state moved beyond the rounding of the event (energy alone cannot tell at 0) */
+        lossy = 0;
+        for (i = 0; i < {up}_NX; ++i)
+            if (fabs(xn[i] - x[i]) > 1e-9 * (fabs(x[i]) > fabs(xn[i]) ? fabs(x[i]) : fabs(xn[i])) + 1e-12)
+                lossy = 1;
         if (best < 0 || lossy < best_lossy || (lossy == best_lossy && (flips < best_flips
                 || (flips == best_flips && fabs(loss) < fabs(best_loss))))) {{
             best = k; best_flips = flips; best_lossy = lossy; best_loss = loss;
@@ -393,7 +397,6 @@ def generate_switched_python(sm: Any, *, defaults: Optional[Mapping[str, float]]
 
 def select(proposed, free_mask, check_mask, guard_tol, t, x, u, p):
     h_old = energy(x, p)
-    tiny = 1e-9 * max(abs(h_old), 1e-300)
     best = None
     for k, on in enumerate(MODE_ON):
         diff = on ^ proposed
@@ -404,9 +407,11 @@ def select(proposed, free_mask, check_mask, guard_tol, t, x, u, p):
         if any((check_mask >> s) & 1 and gj < -guard_tol for s, gj in zip(GUARD_SWITCH, g)):
             continue
         loss = h_old - energy(xn, p)
-        key = (abs(loss) > tiny, bin(diff).count("1"), abs(loss))
+        # a jump: a state moved beyond the rounding of the event (energy alone cannot tell at 0)
+        jumped = any(abs(b - a) > 1e-9 * max(abs(a), abs(b)) + 1e-12 for a, b in zip(x, xn))
+        key = (jumped, bin(diff).count("1"), abs(loss))
         if best is None or key < best[0]:
-            best = (key, k, xn, loss if abs(loss) > tiny else 0.0)
+            best = (key, k, xn, loss if jumped else 0.0)
     if best is None:
         return -1, list(x), 0.0
     return best[1], best[2], best[3]

@@ -45,9 +45,8 @@ Examples
 
 from __future__ import annotations
 
-import dataclasses
 from dataclasses import dataclass, field
-from typing import ClassVar, Optional, Sequence
+from typing import ClassVar, Optional, Sequence, cast
 
 import sympy
 
@@ -86,8 +85,13 @@ class SwitchElement(Element):
 
     # ------------------------------------------------------------ the hybrid questions
     def in_state(self, on: bool) -> "SwitchElement":
-        """A copy of the element in state ``on``."""
-        return self if on == self.on else dataclasses.replace(self, on=on)
+        """A copy of the element in state ``on`` (its name kept as it is, a sub-model's
+        path ``cell.D`` included)."""
+        if on == self.on:
+            return self
+        el = cast(SwitchElement, rename(self, self.name))
+        object.__setattr__(el, "on", bool(on))
+        return el
 
     def guard(self, on: bool) -> Optional[sympy.Expr]:
         """An expression >= 0 while state ``on`` is consistent, or None (set by the user)."""
@@ -188,6 +192,12 @@ class ControlledSwitch(SwitchElement):
                 raise ParameterError(
                     f"{self.label()}: {what} must be a sympy expression of time bondgraph.t, "
                     f"parameters and signals (or a number); got {type(val).__name__} {val!r}")
+            if what == "period" and val.is_number and not (val.is_extended_real and val.is_positive
+                                                            and val.is_finite):
+                raise ParameterError(f"{self.label()}: period must be a finite positive number; "
+                                     f"got {val}")
+            if what == "gate" and val.has(sympy.I):
+                raise ParameterError(f"{self.label()}: gate must be real; got {val}")
             object.__setattr__(self, what, val)
 
     def resolved(self, path: str) -> Element:
@@ -214,6 +224,11 @@ def pwm(duty, period, *, delay=0) -> sympy.Expr:
     [1/4, 1/20, 1/4]
     """
     duty, period, delay = (sympy.sympify(v, strict=True) for v in (duty, period, delay))
+    for what, v in (("duty", duty), ("period", period), ("delay", delay)):
+        if v.is_number and not (v.is_extended_real and v.is_finite):
+            raise ParameterError(f"pwm: {what} must be a finite real number; got {v}")
+    if period.is_number and not period.is_positive:
+        raise ParameterError(f"pwm: period must be positive; got {period}")
     phase = (T_SYM - delay) / period
     return duty - (phase - sympy.floor(phase))
 

@@ -31,17 +31,18 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+import warnings
 from dataclasses import dataclass
 from typing import Any, Iterable, Mapping, Optional, Union, cast
 
 import sympy
 
 from ..model import derive
-from ..errors import AlgebraicLoopError, CausalityError, OutputError
+from ..errors import AlgebraicLoopError, BondGraphWarning, CausalityError, OutputError
 from ..flatten import FlatGraph, flatten
 from ..graph import BondGraph
 from ..model import Model
-from .elements import SwitchElement, gate_signals
+from .elements import Diode, SwitchElement, gate_signals
 from .errors import ModeError
 
 __all__ = ["Mode", "ModeModel", "ModeSet"]
@@ -69,6 +70,13 @@ class Mode:
     def __post_init__(self) -> None:
         object.__setattr__(self, "on", frozenset(self.on))
         object.__setattr__(self, "off", frozenset(self.off))
+        object.__setattr__(self, "_hash", hash((self.on, self.off)))
+
+    def __hash__(self) -> int:      # modes key the caches of every event: hashed once
+        return self._hash           # type: ignore[attr-defined]
+
+    def __reduce__(self):           # the hash of str differs between processes: not pickled
+        return (Mode, (self.on, self.off))
 
     def is_on(self, name: str) -> bool:
         """Whether switch ``name`` is on in this mode."""
@@ -144,6 +152,7 @@ class ModeSet:
         if not self.switches:
             raise ModeError(f"model {flat.name!r} has no switch element (Switch, Diode, "
                             "ControlledSwitch from bondgraph.hybrid); derive it with bondgraph.derive")
+        _warn_reversed_diodes(flat, self.switches)
         self.user_outputs: dict = dict(outputs or {})
         for name in self.user_outputs:
             if isinstance(name, str) and name.startswith(("hyb_E", "hyb_S")):
@@ -171,6 +180,12 @@ class ModeSet:
         #: outputs (an integrator state of one of them carries over between modes)
         self.guard_signals: tuple = tuple(signals)
         self._cache: dict = {}
+
+    def __getstate__(self) -> dict:
+        # the compiled numbers of past simulations are functions: not pickled, rebuilt when asked
+        state = dict(self.__dict__)
+        state.pop("_numeric", None)
+        return state
 
     def element(self, name: str) -> SwitchElement:
         """The element named ``name`` (a switch, or any other element of the graph)."""
@@ -308,6 +323,23 @@ class ModeSet:
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}({self.name!r}, switches={self.switches})"
+
+
+def _warn_reversed_diodes(flat: FlatGraph, switches: Iterable[str]) -> None:
+    """A :class:`~bondgraph.BondGraphWarning` for each diode bonded away from itself."""
+    for name in switches:
+        el = flat.element(name)
+        if not isinstance(el, Diode):
+            continue
+        for b in flat.incidence.get(name, ()):
+            bond = flat.bonds[b]
+            if bond.tail == name:
+                warnings.warn(
+                    f"diode {name!r} is bonded away from itself ({name} -> {bond.head}): it conducts "
+                    f"while the flow from {name} into {bond.head} is >= 0 and blocks while its effort "
+                    f"is <= 0 on that bond, the reverse of a diode bonded {bond.head} -> {name}; "
+                    f"bond it {bond.head} -> {name} for the usual direction (forward flow into the "
+                    "diode)", BondGraphWarning, stacklevel=4)
 
 
 def _names(names: Iterable[str], what: str) -> frozenset:

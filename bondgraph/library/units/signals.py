@@ -46,8 +46,12 @@ def model_units(model: Model, graph: BondGraph, values: Mapping[str, Any], *,
     refused here too); an output whose dimension cannot be known (a
     parameter without units in it) is left out.
     """
-    from .check import check_units
+    from .check import UnitError, check_units
 
+    if not hasattr(model, "states") and hasattr(model, "switches"):
+        raise UnitError(f"model {getattr(model, 'name', '?')!r} is switched (a SwitchedModel): "
+                        "plant_with_units and export_fmu_with_units take an ordinary model; export "
+                        "a switched model with bondgraph.fmu.export_fmu and SI values")
     report = check_units(graph, values, domains=domains)
     out: dict[str, Dim] = {}
     known: dict = {T_SYM: unit_dims(u.second)}
