@@ -175,7 +175,7 @@ def generate(seed: int) -> Case:
                 round(rng.uniform(0.05, 0.95) * period, 4))
     elif switch == "state":
         store = [nm for nm, k in kind_of.items() if k in "CL"]
-        gate = ("state", rng.choice(store), rng.choice([-1, 1]), round(rng.uniform(-1.0, 1.0), 3))
+        gate = ("state", rng.choice(store), rng.choice([-1, 1]), round(rng.uniform(-0.3, 0.3), 3))
     # the bond graph and the netlist side by side
     elements: list[tuple] = [("Zero", f"n{a}", {}) for a in nodes]
     bonds: list[tuple[str, str]] = []
@@ -392,6 +392,11 @@ def _compare(case: Case, ref, res, grid: np.ndarray, out: Outcome) -> None:
                     + [(e.time, frozenset(e.after.on)) for e in res.events], tol)
     exp = ref.events
     out.checks.update(events=len(exp) - 1, jumps=len(ref.jumps))
+    for (_, a, _), (_, b, _) in zip(exp, exp[1:]):     # which kinds of switching were seen
+        for nm in a ^ b:
+            p = case.net.part(nm)
+            key = "diode_events" if p.kind == "D" else f"{p.gate[0]}_switch_events"
+            out.checks[key] = out.checks.get(key, 0) + 1
 
     def fail(msg: str) -> None:
         out.cls, out.detail = "wrong", msg
