@@ -40,6 +40,7 @@ class AffineFlow:
         #: oscillation sampled every 0.04 rad)
         self.step = 0.2 / rate if rate > 0 else np.inf
         self.real = bool(np.all(lam.imag == 0))
+        self._steps: dict = {}
 
     @classmethod
     def of(cls, A: np.ndarray, b: np.ndarray) -> Optional["AffineFlow"]:
@@ -67,6 +68,19 @@ class AffineFlow:
     def coefficients(self, x0: np.ndarray) -> np.ndarray:
         """The modal coefficients ``V^-1 (x0 - x_p)`` of a start ``x0``."""
         return self.Vinv @ (np.asarray(x0, dtype=float) - self.xp)
+
+    def samples(self, fractions: np.ndarray, offset: float, h: float, c: np.ndarray) -> np.ndarray:
+        """The states at ``offset + h*fractions`` after the start (modal coefficients ``c``):
+        the exponentials of a step length are kept (a periodic switching repeats them)."""
+        key = float(f"{h:.13g}")
+        E = self._steps.get(key)
+        if E is None:
+            if len(self._steps) > 64:
+                self._steps.clear()
+            E = self._steps[key] = np.exp(self.lam[:, None] * (key * fractions)[None, :])
+        w = c if offset == 0 else c * np.exp(self.lam * offset)
+        out = self.V @ (E * w[:, None])
+        return (out.real if not self.real else out.real) + self.xp[:, None]
 
     def from_coefficients(self, s: np.ndarray, t0: float, c: np.ndarray) -> np.ndarray:
         """The states at times ``s`` from the modal coefficients ``c`` at ``t0``."""

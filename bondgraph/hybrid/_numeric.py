@@ -402,12 +402,19 @@ def _rate_terms(g: sympy.Expr, xs: Sequence, rhs: Sequence, us: Sequence, args: 
     expr, back = _piecewise_constant(g)
     out = []
     for _ in range(2):
-        terms = [sympy.diff(expr, T_SYM)] + [sympy.diff(expr, xi) * fi for xi, fi in zip(xs, rhs)]
+        # each product split along the sums of the right-hand side, so that the scale the sum
+        # is compared with is that of its parts (a rate that cancels to rounding is a tie)
+        terms = list(sympy.Add.make_args(sympy.diff(expr, T_SYM)))
+        for xi, fi in zip(xs, rhs):
+            d = sympy.diff(expr, xi)
+            if d != 0:
+                terms += [d * a for a in sympy.Add.make_args(fi)]
+        n_own = len(terms)
         terms += [sympy.diff(expr, uk) for uk in us]
         clean = [e.replace(lambda a: isinstance(a, sympy.DiracDelta), lambda a: sympy.Integer(0))
                  .xreplace(back) for e in terms]
         out.append((_lambdify(args, clean), len(us)))
-        expr = sympy.Add(*terms[: 1 + len(xs)])
+        expr = sympy.Add(*terms[:n_own])
     return out
 
 

@@ -28,6 +28,7 @@ from .modes import Mode, ModeSet
 
 __all__ = ["Run"]
 
+_NO_INPUTS = np.zeros(0)
 #: most events at one instant that leave the mode as it was
 _SAME_INSTANT = 100
 
@@ -131,6 +132,8 @@ class Run:
 
     # ------------------------------------------------------------ numbers
     def u(self, t: float) -> np.ndarray:
+        if not self._u:
+            return _NO_INPUTS
         return np.array([f(t) for f in self._u], dtype=float)
 
     def compiled(self, mode: Mode) -> Optional[CompiledMode]:
@@ -218,7 +221,7 @@ class Run:
         watch = tuple(dict.fromkeys(tuple(check) + tuple(trigger or ())))
         for k, mode in self._candidates(proposed, free):
             if cands and min(c[0] for c in cands)[:2] == (False, False) and k > min(
-                    c[0] for c in cands)[2]:
+                    c[0] for c in cands)[3]:
                 break       # a candidate that holds without a jump, with fewer flips: the best
             cm = self.compiled(mode)
             if cm is None:
@@ -240,7 +243,13 @@ class Run:
             near = [n for n, j in idx if g[j] <= self.guard_tol]
             leaving = self._leaving(cm, t, x, u, near) if near else ()
             jumped = self._jumped(q_ref, q_new)
-            cands.append(((bool(leaving), jumped, k, abs(loss)), mode, cm, x, q_new, loss,
+            # a jump that cannot be avoided: the smallest in the energy metric (the projection
+            # of the state before onto what the mode allows), then the fewest flips
+            size = 0.0
+            if jumped:
+                d = q_new - q_ref
+                size = float(d @ self.metric.hessian(q_ref) @ d)
+            cands.append(((bool(leaving), jumped, size, k, abs(loss)), mode, cm, x, q_new, loss,
                           jumped, leaving, q_ref))
         where = f"at t = {t:.9g}"
         if not cands:

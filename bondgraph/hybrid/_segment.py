@@ -105,7 +105,7 @@ def integrate(cm: CompiledMode, t: float, x: np.ndarray, t_end: float, *, u: Cal
     if n_x == 0 and cm.affine_flow is not None:
         return _integrate_exact(cm, cm.affine_flow, t, np.asarray(x, dtype=float), t_stop,
                                 tuple(timed) if t_stop < t_end else (), u, watch, armed, arm_level,
-                                guard_tol, record, evals, clock, where)
+                                guard_tol, record, evals, clock, where, max_step)
     y0 = np.concatenate([np.asarray(x, dtype=float), np.zeros(n_x)])
     uc = u
 
@@ -166,9 +166,9 @@ class _Exact:
 
 
 def _integrate_exact(cm, flow, t, x, t_stop, timed, u, watch, armed, arm_level, guard_tol, record,
-                     evals, clock, where) -> Segment:
+                     evals, clock, where, max_step=math.inf) -> Segment:
     """:func:`integrate` for a mode with an exact affine flow: guards sampled on the exact
-    solution in steps of at most a fifth of the fastest time constant."""
+    solution in steps of at most a fifth of the fastest time constant (and ``max_step``)."""
     n = len(x)
     dense = _Exact(flow, t, x)
     names = cm.guard_names
@@ -179,9 +179,9 @@ def _integrate_exact(cm, flow, t, x, t_stop, timed, u, watch, armed, arm_level, 
     a = t
     while True:
         clock(a)
-        b = min(t_stop, a + flow.step)
+        b = min(t_stop, a + min(flow.step, max_step))
         ts = a + (b - a) * _FRACTIONS
-        ys = dense(ts)
+        ys = flow.samples(_FRACTIONS, a - t, b - a, dense.c)
         hit, G = _locate(cm, dense, a, b, n, g_prev, watch, armed, arm_level, guard_tol, u, where,
                          samples=(ts, ys))
         if hit is not None:

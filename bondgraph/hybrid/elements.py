@@ -164,10 +164,11 @@ class ControlledSwitch(SwitchElement):
         Of time :data:`bondgraph.t`, parameters and signals
         (``bg.displacement("m")``); :func:`pwm` builds a PWM gate.
     period : number or expression, optional, keyword-only
-        The switching period of a periodic gate.  A gate of time only is
-        scanned ahead by the simulation on a grid of ``period/1000`` (of
-        ``(t1 - t0)/1e5`` without a period) and its zero crossings refined to
-        machine precision, so no pulse longer than the grid step is missed.
+        The switching period of a periodic gate (finite, positive).  A gate of
+        time only with a period gives exact time events: its falls over one
+        period are found once (scanned at ``period/2000``, refined to machine
+        precision) and shifted by whole periods.  Any other gate is located on
+        the dense output of every integration step, whatever the step.
 
     Examples
     --------

@@ -316,3 +316,36 @@ def test_a_blocked_diode_touching_zero_is_neither_an_event_nor_chattering():
                    chatter_count=2)
     assert not res.events and {str(m) for m in res.modes} == {"D off"}
     assert np.all(res.outputs["v"] == 10.0)
+
+
+def test_the_time_budget_is_checked_inside_one_long_segment():
+    # a ball coming to rest on the ground spring: one endless segment without events
+    sm = SwitchedModel(library.bounce(), outputs={"h": bg.displacement("ball")})
+    with pytest.raises(EventBudgetError, match="time budget of 0.3 s") as info:
+        simulate(sm, (0, 1e9), {"h": 1.0}, values={"m": 1, "g": 9.81, "r": 1, "k_g": 100},
+                 time_budget=0.3)
+    assert 0 < info.value.result.t[-1] < 1e9
+
+
+def rectifier_built_blocking():
+    """The library's rectifier with its diode built off (blocking)."""
+    g = bg.BondGraph("rect_off")
+    Vm, w = sympy.symbols("Vm w", positive=True)
+    g.add(bg.Se("Vs", value=Vm * sympy.sin(w * bg.t)), bg.One("i"), Diode("D"), bg.Zero("v"),
+          bg.R("R"), bg.C("C"))
+    for a, b in [("Vs", "i"), ("i", "D"), ("i", "v"), ("v", "R"), ("v", "C")]:
+        g.connect(a, b)
+    return SwitchedModel(g, outputs={"v": bg.effort("C")})
+
+
+def test_a_rectifier_built_blocking_conducts_from_the_start():
+    # empty capacitor, source rising from 0: off, the reverse voltage -Vs would go negative at
+    # once (its derivative -Vm w), so the consistent initial mode is on, without any jump
+    res = simulate(rectifier_built_blocking(), (0, 3.0), values={"Vm": VM, "w": W, "R": R, "C": C},
+                   t_eval=np.linspace(0, 3.0, 200))
+    offs, ons, v = rectifier_by_hand(3.0)
+    (first, *rest) = res.events
+    assert first.time == 0 and str(first.after) == "D on" and first.energy_loss == 0
+    np.testing.assert_allclose([e.time for e in rest], sorted(offs + ons), rtol=0, atol=1e-8)
+    expect = np.array([v(t) for t in res.t])
+    np.testing.assert_allclose(res.outputs["v"], expect, rtol=0, atol=1e-4 * VM)
