@@ -358,10 +358,13 @@ class Run:
         armed: dict[str, bool] = {}
         level: dict[str, float] = {}
         steps: dict = {}
+        wheres: dict = {}
         same_t, same_n = None, 0
         while True:
             check_clock(t)
-            where = f"model {sm.name!r}, mode ({mode})"
+            where = wheres.get(mode)
+            if where is None:
+                where = wheres[mode] = f"model {sm.name!r}, mode ({mode})"
             seg = integrate(cm, t, x, o.t1, u=self.u, method=o.method, rtol=o.rtol, atol=o.atol,
                             max_step=o.max_step, guard_tol=o.guard_tol, armed=armed,
                             arm_level=level, time_event=self._time_event(cm, t),

@@ -73,12 +73,20 @@ def _first_negative(h: Callable[[float], float], lo: float, hi: float) -> float:
         r = brentq(h, lo, hi, xtol=xtol, rtol=8.9e-16)
     except ValueError:      # h(lo) is 0 exactly and brentq accepts it
         r = lo
-    # the event is where the guard is negative: step to the negative side of the root
-    for _ in range(8):
-        if h(r) < 0 or r >= hi:
+    # the event is where the guard is negative: the negative side of the root, by bisection
+    # between the root (not negative: rounding) and hi (negative)
+    if h(r) < 0:
+        return r
+    lo2, hi2 = r, hi
+    for _ in range(200):
+        if hi2 - lo2 <= xtol:
             break
-        r = min(hi, r + xtol)
-    return min(r, hi) if h(r) < 0 else hi
+        mid = 0.5 * (lo2 + hi2)
+        if h(mid) < 0:
+            hi2 = mid
+        else:
+            lo2 = mid
+    return hi2
 
 
 def integrate(cm: CompiledMode, t: float, x: np.ndarray, t_end: float, *, u: Callable,
@@ -241,7 +249,8 @@ def _locate(cm, dense, a, b, n, g_prev, watch, armed, arm_level, tol, u, where, 
             quiet = False
             break
     if quiet:
-        return None, G
+        dip = _dip(cm, dense, a, ts, G, n, g_prev, watch, armed, u, where)
+        return (None if dip is None else dip), G
     best = None
     prev_t, prev = a, g_prev
     for j, s in enumerate(ts):
@@ -269,6 +278,38 @@ def _locate(cm, dense, a, b, n, g_prev, watch, armed, arm_level, tol, u, where, 
     fired = tuple(names[k] for k in watch
                   if g[k] < (0.0 if armed.get(names[k], False) else -tol) or k == best[1])
     return (te, fired), G
+
+
+def _dip(cm, dense, a, ts, G, n, g_prev, watch, armed, u, where):
+    """A fall below zero between two samples of an armed guard that comes back above zero
+    before the next sample: looked for at each sampled local minimum that is nearer zero than
+    the guard's change around it (the minimum found on the dense output by a bounded search)."""
+    from scipy.optimize import minimize_scalar
+
+    t_all = np.concatenate([[a], ts])
+    for k in watch:
+        if not armed.get(cm.guard_names[k], False):
+            continue
+        seq = np.concatenate([[g_prev[k]], G[k]])
+        for j in range(1, len(seq) - 1):
+            lo, mid, hi = seq[j - 1], seq[j], seq[j + 1]
+            if not (mid <= lo and mid <= hi and mid < (lo - mid) + (hi - mid)):
+                continue
+
+            def h(tt, k=k):
+                y = np.asarray(dense(tt), dtype=float)[:n]
+                return float(_guards(cm, tt, y, u(tt), where)[k])
+            left, right = float(t_all[j - 1]), float(t_all[j + 1])
+            found = minimize_scalar(h, bounds=(left, right), method="bounded",
+                                    options={"xatol": 1e-12 * max(1.0, abs(right))})
+            if found.fun < 0:
+                te = _first_negative(h, left, float(found.x))
+                y = np.asarray(dense(te), dtype=float)[:n]
+                g = _guards(cm, te, y, u(te), where)
+                fired = tuple(cm.guard_names[i] for i in watch
+                              if armed.get(cm.guard_names[i], False) and g[i] < 0 or i == k)
+                return te, fired
+    return None
 
 
 def _inputs(u, ts: np.ndarray) -> np.ndarray:

@@ -349,3 +349,17 @@ def test_a_rectifier_built_blocking_conducts_from_the_start():
     np.testing.assert_allclose([e.time for e in rest], sorted(offs + ons), rtol=0, atol=1e-8)
     expect = np.array([v(t) for t in res.t])
     np.testing.assert_allclose(res.outputs["v"], expect, rtol=0, atol=1e-4 * VM)
+
+
+def test_unit_carrying_exports_refuse_a_switched_model(tmp_path):
+    import sympy.physics.units as u
+
+    from bondgraph.library.units import export_fmu_with_units, plant_with_units
+
+    sm = SwitchedModel(library.clutch(), outputs={"w2": bg.flow("J2")})
+    vals = {"J1": 1 * u.kg * u.m**2, "J2": 2 * u.kg * u.m**2, "t_lock": 1 * u.s}
+    with pytest.raises(bg.BondGraphError, match="'clutch' is switched"):
+        plant_with_units(sm, library.clutch(), vals)
+    with pytest.raises(bg.BondGraphError, match="'clutch' is switched"):
+        export_fmu_with_units(sm, tmp_path / "c.fmu", graph=library.clutch(), values=vals)
+    assert not (tmp_path / "c.fmu").exists()
