@@ -77,6 +77,10 @@ __all__ = ["Part", "Netlist", "SwitchedReference", "RefResult", "IllPosed", "PAR
 PART_KINDS = ("R", "C", "L", "V", "J", "D", "S")
 #: the most events a reference run follows (more: Zeno or chattering, ill-posed)
 MAX_EVENTS = 400
+#: a mode whose guards are no lower than this (the package's default ``guard_tol``) and
+#: that moves like the consistent one to 1e-8 is allowed too: a diode idle to within
+#: rounding (a current of -1e-13 A) may be reported in either state
+NEAR = 1e-9
 
 
 def expm(A: np.ndarray) -> np.ndarray:
@@ -147,6 +151,15 @@ class RefResult:
     states: dict
     modes: list
     jumps: list = field(default_factory=list)
+    segments: list = field(default_factory=list)     # (t0, mode, X0) in order
+
+    def idle(self, t: float) -> frozenset:
+        """The diodes whose current and voltage are both within :data:`NEAR` of zero at
+        ``t`` (either state fits them to the package's guard tolerance)."""
+        t0, m, X0 = [sg for sg in self.segments if sg[0] <= t][-1]
+        X = expm(m.F * (t - t0)) @ X0
+        return frozenset(d for d, (i, v) in m.diode_rows.items()
+                         if abs(float(i @ X)) <= NEAR and abs(float(v @ X)) <= NEAR)
 
 
 class _Mode:
@@ -231,18 +244,18 @@ class _Mode:
         self.rho = max(float(np.abs(np.linalg.eigvals(self.F)).max()), 1e-3)
         # guards: >= 0 while this mode is consistent, as rows acting on X = (s, z)
         self.guards: list[tuple[str, np.ndarray]] = []
+        self.diode_rows: dict = {}           # diode -> (current row, voltage row) on X
         for b, p in enumerate(net.parts):
             if p.kind == "D":
-                if p.name in on:
-                    g = np.concatenate([Ws[nv + b], Wz[nv + b]])
-                else:
-                    vr = np.zeros(n)
-                    if p.plus:
-                        vr[p.plus - 1] -= 1.0
-                    if p.minus:
-                        vr[p.minus - 1] += 1.0
-                    g = np.concatenate([vr @ Ws, vr @ Wz])
-                self.guards.append((p.name, g))
+                vr = np.zeros(n)
+                if p.plus:
+                    vr[p.plus - 1] -= 1.0
+                if p.minus:
+                    vr[p.minus - 1] += 1.0
+                cur = np.concatenate([Ws[nv + b], Wz[nv + b]])
+                rev = np.concatenate([vr @ Ws, vr @ Wz])
+                self.diode_rows[p.name] = (cur, rev)
+                self.guards.append((p.name, cur if p.name in on else rev))
             elif p.kind == "S" and p.gate[0] == "state":
                 _, src, sign, thr = p.gate
                 g = np.zeros(ns + nz)
@@ -377,11 +390,13 @@ class SwitchedReference:
         return best
 
     def select(self, t: float, s: np.ndarray, before: Optional[frozenset]):
-        """The consistent mode at ``t`` from state ``s``: (mode, state after any jump)."""
+        """The consistent mode at ``t`` from state ``s``: (mode, state after any jump, the
+        modes allowed: those consistent, and those within :data:`NEAR` of consistent,
+        that move alike)."""
         z = self.z(t)
         fixed = frozenset(p.name for p in self.pwm if self.pwm_on(p, t))
         free = self.diodes + self.gated
-        found, undetermined = [], []
+        found, near, undetermined = [], [], []
         for k in range(len(free) + 1):
             for combo in itertools.combinations(free, k):
                 on = fixed | frozenset(combo)
@@ -394,30 +409,44 @@ class SwitchedReference:
                 s_new = m.enter(self, s, z)
                 if s_new is None:
                     continue
-                if m.consistent(np.concatenate([s_new, z])):
+                X = np.concatenate([s_new, z])
+                if m.consistent(X):
                     found.append((m, s_new))
+                elif all(float(g @ X) >= -NEAR for _, g in m.guards):
+                    near.append((m, s_new))
         if not found:
             if undetermined:
                 raise IllPosed(f"t = {t:.6g}: no consistent mode but {undetermined}, which "
                                "leave a current or voltage undetermined")
             raise IllPosed(f"t = {t:.6g}: no consistent mode (a source shorted or opened by a "
                            "diode, or a sliding mode)")
+        m0, s0 = found[0]
+        for m, s1 in found[1:]:
+            if not self._alike(m0, s0, m, s1, z, 1e-9):
+                raise IllPosed(f"t = {t:.6g}: modes {[sorted(m.on) for m, _ in found]} "
+                               "are all consistent and move differently")
         if len(found) > 1:
-            m0, s0 = found[0]
-            for m, s1 in found[1:]:
-                X0, X1 = np.concatenate([s0, z]), np.concatenate([s1, z])
-                scale = np.abs(X0).max() + 1e-3
-                nF = max(np.abs(m0.F).sum(axis=1).max(), 1.0)
-                for _k in range(len(X0) + 1):     # the same state and every derivative
-                    if np.abs(X1 - X0).max() > 1e-9 * scale:
-                        raise IllPosed(f"t = {t:.6g}: modes {[sorted(m.on) for m, _ in found]} "
-                                       "are all consistent and move differently")
-                    X0, X1, scale = m0.F @ X0, m.F @ X1, scale * nF
             # they move alike (a diode with neither current nor voltage): it keeps its state
             ref = before if before is not None else frozenset()
             found.sort(key=lambda c: (len(c[0].on ^ ref), sorted(c[0].on)))
+        allowed = {c[0].on for c in found}
+        allowed |= {m.on for m, s1 in near if self._alike(m0, s0, m, s1, z, 1e-8)}
         m, s_new = found[0]
-        return m, s_new, frozenset(c[0].on for c in found)
+        return m, s_new, frozenset(allowed)
+
+    @staticmethod
+    def _alike(m0: _Mode, s0: np.ndarray, m1: _Mode, s1: np.ndarray, z: np.ndarray,
+               rtol: float) -> bool:
+        """Whether two modes entered at ``s0``, ``s1`` move alike: the same state and every
+        derivative (to ``rtol`` of the state's size times the rates' norm to that order)."""
+        X0, X1 = np.concatenate([s0, z]), np.concatenate([s1, z])
+        scale = np.abs(X0).max() + 1e-3
+        nF = max(np.abs(m0.F).sum(axis=1).max(), 1.0)
+        for _k in range(len(X0) + 1):
+            if np.abs(X1 - X0).max() > rtol * scale:
+                return False
+            X0, X1, scale = m0.F @ X0, m1.F @ X1, scale * nF
+        return True
 
     def _first_crossing(self, m: _Mode, t: float, X0: np.ndarray, t_end: float):
         """The first time in (t, t_end) at which a guard of ``m`` falls below zero."""
@@ -493,8 +522,10 @@ class SwitchedReference:
         s = s_new
         t = 0.0
         repeats = 0
+        segments = []
         while True:
             X0 = np.concatenate([s, self.z(t)])
+            segments.append((t, m, X0))
             t_edge = self.next_edge(t, t1)
             te = self._first_crossing(m, t, X0, t_edge)
             t_stop = t_edge if te is None else te
@@ -523,4 +554,4 @@ class SwitchedReference:
             m, t, allowed = m_new, t_stop, allowed_new
         # stored quantities: charge C vC, flux L iL
         states = {n: out[:, j] * self.net.part(n).value for j, n in enumerate(self.storage)}
-        return RefResult(events, times, states, modes, jumps)
+        return RefResult(events, times, states, modes, jumps, segments)
