@@ -66,13 +66,19 @@ def main(argv=None) -> int:
     ap.add_argument("--json", type=Path, help="write per-graph results here, one JSON line "
                     "each as they come (a run stopped early keeps them)")
     ap.add_argument("--progress", type=int, default=250, help="print counts every N graphs")
+    ap.add_argument("--summary", type=Path, help="only print the table of a --json file "
+                    "(of a run stopped early, say)")
     args = ap.parse_args(argv)
+    if args.summary:
+        records = [json.loads(line) for line in open(args.summary) if line.strip()]
+        seeds = sorted(r["seed"] for r in records)
+        print(f"\nswitched differential verification: {len(records)} graphs (seeds "
+              f"{seeds[0]}..{seeds[-1]}, from {args.summary})")
+        return _table(records)
 
     import bondgraph.hybrid  # noqa: F401 -- imported before forking
     t0 = time.perf_counter()
     counts: collections.Counter = collections.Counter()
-    reasons: collections.Counter = collections.Counter()
-    flags: collections.Counter = collections.Counter()
     records = []
     tasks = [(args.seed + i, args.timeout) for i in range(args.n)]
     sink = open(args.json, "w") if args.json else None
@@ -83,22 +89,33 @@ def main(argv=None) -> int:
             if sink:
                 sink.write(json.dumps(r) + "\n")
                 sink.flush()
-            if r["cls"] in ("refused-ill-posed", "ill-posed-answered", "refused-well-posed"):
-                reasons[(r["cls"], _reason(r["detail"]))] += 1
-            for key, v in r["checks"].items():
-                flags[key] += v
             if args.progress and k % args.progress == 0:
                 print(f"  {k} graphs, {time.perf_counter() - t0:.0f} s: "
                       + ", ".join(f"{c} {counts[c]}" for c in sg.CLASSES if counts[c]), flush=True)
     wall = time.perf_counter() - t0
-    secs = sorted(r["seconds"] for r in records)
     print(f"\nswitched differential verification: {args.n} graphs (seeds {args.seed}.."
           f"{args.seed + args.n - 1}), {args.jobs} jobs, CPU limit {args.timeout:g} s per graph")
-    print(f"wall time {wall:.1f} s; CPU per graph: median {secs[len(secs) // 2]:.2f} s, "
-          f"max {secs[-1]:.1f} s\n")
+    print(f"wall time {wall:.1f} s")
+    if sink:
+        sink.close()
+    return _table(records)
+
+
+def _table(records: list) -> int:
+    """Print the counts by class, the kinds of refusal, what was compared, the failures."""
+    counts = collections.Counter(r["cls"] for r in records)
+    reasons = collections.Counter((r["cls"], _reason(r["detail"])) for r in records
+                                  if r["cls"] in ("refused-ill-posed", "ill-posed-answered",
+                                                  "refused-well-posed"))
+    flags: collections.Counter = collections.Counter()
+    for r in records:
+        for key, v in r["checks"].items():
+            flags[key] += v
+    secs = sorted(r["seconds"] for r in records)
+    print(f"CPU per graph: median {secs[len(secs) // 2]:.2f} s, max {secs[-1]:.1f} s\n")
     print(f"{'class':22s} {'count':>7s} {'%':>7s}")
     for c in sg.CLASSES:
-        print(f"{c:22s} {counts[c]:7d} {100 * counts[c] / max(1, args.n):7.2f}"
+        print(f"{c:22s} {counts[c]:7d} {100 * counts[c] / max(1, len(records)):7.2f}"
               + ("   <- failure" if c in sg.FAILURES and counts[c] else ""))
     print("\nrefusals and ill-posed graphs, by kind:")
     for (cls, why), n in sorted(reasons.items()):
@@ -110,8 +127,6 @@ def main(argv=None) -> int:
     if bad:
         print("\nreproduce one: python -c 'import sys; sys.path.insert(0, \"tests\"); from verification "
               "import switched_generator as sg; print(sg.script(sg.generate(SEED)))'")
-    if sink:
-        sink.close()
     return 1 if bad else 0
 
 
