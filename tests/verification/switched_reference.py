@@ -483,6 +483,7 @@ class SwitchedReference:
                 lo, hi = ts[k], min(ts[k + 1], t_end)
                 if lo >= t_end:
                     return None
+                hits = []                    # the earliest crossing of any guard here
                 for j in range(len(G)):
                     a = None
                     if below[k, j] or (hi < ts[k + 1] and self._g(m, G[j], t, X0, hi) < -eps[j]):
@@ -498,10 +499,11 @@ class SwitchedReference:
                     fb = self._g(m, G[j], t, X0, b)
                     if fb >= -eps[j]:
                         continue             # the powers' rounding: no crossing after all
-                    if fa <= 0:
-                        return a
-                    return brentq(lambda x: self._g(m, G[j], t, X0, x), a, b,
-                                  xtol=1e-15, rtol=8.9e-16)
+                    hits.append(a if fa <= 0 else
+                                brentq(lambda x: self._g(m, G[j], t, X0, x), a, b,
+                                       xtol=1e-15, rtol=8.9e-16))
+                if hits:
+                    return min(hits)
             if ts[-1] >= t_end:
                 # the last interval's end beyond t_end was checked through hi above
                 return None
