@@ -118,7 +118,7 @@ class _Evaluator:
         """``c`` at ``point`` (sympy Rationals; ``qpoint`` the same as flint fmpq), or a
         non-rational sympy number."""
         if isinstance(c, int) or not c.free_symbols:
-            return sympy.sympify(c)
+            return sympy.sympify(c, strict=True)
         nd = self._fraction(c)
         if nd is None:
             return c.xreplace(point)

@@ -123,7 +123,7 @@ class CompiledMode:
         self._M = _lambdify((T_SYM, *inputs), list(J)) if self.affine else None
         #: the re-initialisation's affine map does not read time or inputs
         self._constant_map = self.affine and not ((J.free_symbols | set().union(
-            *(sympy.sympify(e).free_symbols for e in q_exprs)) - set(x)) & ({T_SYM} | set(inputs)))
+            *(sympy.sympify(e, strict=True).free_symbols for e in q_exprs)) - set(x)) & ({T_SYM} | set(inputs)))
         self._projection: Optional[tuple] = None
         self._c = _lambdify((T_SYM, *inputs), [e.xreplace(zero) for e in q_exprs]) if self.affine else None
         # guards in this mode's variables: each switch's guard with its signals replaced
@@ -352,7 +352,7 @@ def _rate_terms(g: sympy.Expr, xs: Sequence, rhs: Sequence, us: Sequence, args: 
 
 def _refuse_complex(expr: sympy.Expr, where: str) -> None:
     """A guard or equation that became complex or non-finite with the numbers substituted."""
-    if sympy.sympify(expr).has(sympy.I):
+    if sympy.sympify(expr, strict=True).has(sympy.I):
         raise HybridError(f"{where} is complex ({expr}); a switched model's equations and "
                           "guards must be real")
 

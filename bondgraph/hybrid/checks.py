@@ -42,11 +42,11 @@ def nonfinite(sm: ModeSet, modes: Sequence[Mode], fulls: Sequence, subs: dict) -
             if g is not None:
                 groups.append((f"the guard of switch {n!r} is", g))
         for what, expr in groups:
-            if sympy.sympify(expr.xreplace(subs)).has(*_NONFINITE):
+            if sympy.sympify(expr.xreplace(subs), strict=True).has(*_NONFINITE):
                 return (f"model {sm.name!r}, mode ({mode}): {what} not finite with these "
                         f"values{_culprits(sm, expr, subs)}")
     _, H = sm.energy()
-    if sympy.sympify(H.xreplace(subs)).has(*_NONFINITE):
+    if sympy.sympify(H.xreplace(subs), strict=True).has(*_NONFINITE):
         return (f"model {sm.name!r}: the stored energy is not finite with these "
                 f"values{_culprits(sm, H, subs)}")
     return ""

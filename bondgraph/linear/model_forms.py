@@ -397,7 +397,7 @@ def deviations(eqs: "StateEquations", at: Any = None) -> tuple["StateEquations",
                 f"{SYMBOLIC_MAX_STATES}): the matrices are the same about every equilibrium; "
                 "model.operating_point(inputs, values=...) gives the numeric point")
     by_name = {s.name: s for s in eqs.states + eqs.inputs}
-    point = {by_name[k]: sympy.sympify(v) for k, v in {**op.states, **op.inputs}.items()
+    point = {by_name[k]: sympy.sympify(v, strict=True) for k, v in {**op.states, **op.inputs}.items()
              if k in by_name}
     point.update(dict.fromkeys(eqs.input_derivatives, sympy.S.Zero))
     for s, r in zip(eqs.states, eqs.rhs if given_states else ()):
