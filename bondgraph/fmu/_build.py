@@ -144,13 +144,25 @@ def _run_compiler(argv: Sequence[str], folder: str, name: str) -> "subprocess.Co
     An interrupt, SIGTERM (raised as an interrupt by the command line) or the
     30-minute timeout kills the group (the driver and its ``cc1``/``ld``)
     and waits for it, so the temporary folder is removed with no orphan
-    still writing into it.
+    still writing into it; the compiler's temporary files go to that folder too.
+
+    Examples
+    --------
+    >>> import sys, tempfile
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     done = _run_compiler([sys.executable, "-c", "import os; print(os.environ['TMPDIR'])"],
+    ...                          d, "python")
+    ...     done.stdout.strip() == d
+    True
     """
     import signal
 
     try:
+        # the compiler's own temporary files (gcc's ccXXXX.s, .o) in the build folder, which is
+        # removed on every way out: a killed compiler cannot leave them in the system's TMPDIR
         proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                                cwd=folder, start_new_session=True)
+                                cwd=folder, start_new_session=True,
+                                env=dict(os.environ, TMPDIR=folder, TMP=folder, TEMP=folder))
     except OSError as exc:
         raise FMUError(f"cannot run the C compiler {name!r}: {exc.strerror or exc}") from None
     try:
