@@ -8,16 +8,8 @@ equilibrium equations ``f(x, u) = 0`` then leave its total free.
 ``l . x = total`` (the ``totals=`` of :meth:`bondgraph.Model.equilibrium` and
 :meth:`bondgraph.Model.operating_point`).
 
-Examples
---------
->>> import bondgraph as bg
->>> g = bg.BondGraph("float")
->>> g.add(bg.Zero("a"), bg.Zero("b"), bg.One("i"), bg.C("C1"), bg.C("C2"), bg.R("R"))
->>> for t, h in [("a", "C1"), ("a", "i"), ("i", "R"), ("i", "b"), ("b", "C2")]:
-...     _ = g.connect(t, h)
->>> eqs = bg.derive(g)
->>> conserved_combinations(eqs)
-[q_C1 + q_C2]
+A floating capacitor pair (two capacitors joined through a resistor, nothing
+to the ground) keeps ``q_C1 + q_C2``: the example of :func:`conserved_combinations`.
 """
 
 from __future__ import annotations
